@@ -1,0 +1,94 @@
+#pragma once
+/**
+ * @file scene.h
+ * The scene: what is simulated (domain, fluids, solids, forces, monitors, methods),
+ * independent of how. Parsed once from a `.prm` file into this plain value; each
+ * requested method composes its simulation from it and builds only what it needs.
+ */
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace dealii { class ParameterHandler; }
+
+namespace twinflow
+{
+  enum class Method { fem, sph };
+
+  /// Kinds of boundary condition a face of the domain can carry.
+  enum class BoundaryKind { no_slip, inflow, outflow, periodic };
+
+  /// Axis-aligned region (3 components; the z ones unused in 2D).
+  struct Region
+  {
+    std::array<double, 3> lower{{0, 0, 0}}, upper{{0, 0, 0}};
+  };
+
+  struct Fluid
+  {
+    std::string name;
+    double      density   = 1000;
+    double      viscosity = 1e-3;
+  };
+
+  enum class SolidMotion { fixed, rigid, elastic };
+
+  struct Solid
+  {
+    std::string           name;
+    std::string           shape;   ///< disk | cylinder | box | plate
+    std::array<double, 3> center{{0, 0, 0}};
+    double                radius = 0, length = 0, thickness = 0, angle = 0;
+    SolidMotion           motion = SolidMotion::fixed;
+    double                density = 0, youngs_modulus = 0, poisson_ratio = 0;
+  };
+
+  struct Scene
+  {
+    std::string         name;
+    std::string         file;   ///< the .prm it came from
+    int                 dimension = 2;
+    std::vector<Method> methods;
+    double              end_time        = 1;
+    std::string         output_directory;
+    double              output_interval = 0;   ///< 0: write the final state only
+
+    // Domain
+    std::string         geometry = "box";   ///< box | channel with cylinder
+    Region              domain;
+    std::array<bool, 3> periodic{{false, false, false}};
+    /// Boundary kind per face: left, right, bottom, top, front, back (x-, x+, y-, y+, z-, z+).
+    std::array<BoundaryKind, 6> boundary{{BoundaryKind::no_slip, BoundaryKind::no_slip, BoundaryKind::no_slip,
+                                          BoundaryKind::no_slip, BoundaryKind::no_slip, BoundaryKind::no_slip}};
+    std::string inflow_profile  = "parabolic"; ///< parabolic | uniform
+    double      inflow_velocity = 0;           ///< maximum (parabolic) or uniform value
+
+    // Fluids: fluids[0] fills `fluid_region` (everything if not set); fluids[1], if any, the rest.
+    std::vector<Fluid>    fluids;
+    std::optional<Region> fluid_region;
+
+    std::array<double, 3> gravity{{0, 0, 0}};
+    std::array<double, 3> body_force{{0, 0, 0}};   ///< acceleration driving the flow
+
+    std::vector<Solid> solids;
+
+    // Monitors and references
+    std::vector<std::string>           monitors;   ///< forces | pressure probes | energy
+    std::vector<std::array<double, 3>> pressure_probes;
+    double reference_velocity = 1, reference_length = 1;
+    std::optional<double> reference_drag, reference_lift, reference_pressure_difference;
+
+    bool has_free_surface() const { return fluids.size() > 1; }
+    bool has_solids() const { return !solids.empty(); }
+    bool wants(Method m) const;
+    bool monitors_contain(const std::string &m) const;
+  };
+
+  /// Declares every scene entry (with documentation and defaults) in @p prm.
+  void declare_scene_parameters(dealii::ParameterHandler &prm);
+
+  /// Reads the scene from a parsed @p prm; checks consistency and throws
+  /// twinflow::InputError naming the entry and what is allowed.
+  Scene parse_scene(dealii::ParameterHandler &prm, const std::string &file);
+} // namespace twinflow

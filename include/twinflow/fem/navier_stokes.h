@@ -1,0 +1,172 @@
+#pragma once
+/**
+ * @file navier_stokes.h
+ * Variable-density incompressible Navier–Stokes by the incremental projection of
+ * Guermond & Salgado (2009) — Eq. 16 of the paper and the pressure-increment Poisson
+ * problem with ρ_min that follows it.
+ *
+ * One step t^n → t^{n+1} (BDF1 or variable-step BDF2, coefficients α0, α1, α2):
+ *  1. velocity: ρ(α0 ũ + α1 u^n + α2 u^{n-1})/τ + ρ (u*·∇)ũ + ½[∂_tρ + ∇·(ρu*)] ũ
+ *                − ∇·(2με(ũ)) + ∇p^# = ρ g + f,   p^# = p^n + (4/3 φ^n − 1/3 φ^{n-1} | φ^n);
+ *  2. pressure increment: −Δφ^{n+1} = −(α0 ρ_min/τ) ∇·ũ  (φ = 0 on outflow, ∂_nφ = 0 elsewhere);
+ *  3. pressure update: p^{n+1} = p^n + φ^{n+1}.
+ * Taylor–Hood Q_{k+1}/Q_k on a parallel::distributed::Triangulation, Trilinos vectors,
+ * AMG-preconditioned GMRES (velocity) and CG (pressure increment).
+ */
+#include <twinflow/fem/material_model.h>
+
+#include <deal.II/base/conditional_ostream.h>
+#include <deal.II/base/function.h>
+#include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/timer.h>
+#include <deal.II/distributed/tria.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/fe/fe_q.h>
+#include <deal.II/fe/fe_system.h>
+#include <deal.II/fe/mapping_q.h>
+#include <deal.II/lac/affine_constraints.h>
+#include <deal.II/lac/trilinos_precondition.h>
+#include <deal.II/lac/trilinos_sparse_matrix.h>
+#include <deal.II/lac/trilinos_vector.h>
+#include <deal.II/numerics/data_out.h>
+
+#include <map>
+#include <memory>
+
+namespace twinflow::fem
+{
+  enum class TimeScheme { bdf1, bdf2 };
+  enum class ViscousForm { laplacian, symmetric };
+
+  /// Numerical parameters of the flow solver (subsection "FEM/Navier-Stokes").
+  struct NavierStokesParameters
+  {
+    unsigned int velocity_degree  = 2;   ///< k+1 of Q_{k+1}/Q_k
+    unsigned int mapping_degree   = 1;
+    TimeScheme   scheme           = TimeScheme::bdf2;
+    ViscousForm  viscous_form     = ViscousForm::laplacian;
+    double       linear_tolerance = 1e-10; ///< relative residual of every Krylov solve
+    unsigned int amg_rebuild_interval = 1; ///< velocity AMG rebuilt every n steps
+
+    static void declare(dealii::ParameterHandler &prm);
+    void        parse(dealii::ParameterHandler &prm);
+  };
+
+  /// Statistics of the last step (for progress lines and summaries).
+  struct StepStatistics
+  {
+    unsigned int velocity_iterations = 0;
+    unsigned int pressure_iterations = 0;
+    double       divergence_l2       = 0;
+    double       velocity_change     = 0; ///< max |u^{n+1} − u^n| over the DoFs
+  };
+
+  template <int dim>
+  class NavierStokes
+  {
+  public:
+    NavierStokes(dealii::parallel::distributed::Triangulation<dim> &tria,
+                 const NavierStokesParameters                      &parameters,
+                 const MaterialModel<dim>                          &material);
+
+    /// Velocity prescribed on boundary @p id (a zero function = no slip).
+    void set_dirichlet(dealii::types::boundary_id id, std::shared_ptr<dealii::Function<dim>> u);
+    /// Do-nothing outflow (μ∇u − pI)n = 0 on @p id; φ = 0 there.
+    void set_outflow(dealii::types::boundary_id id);
+    /// Periodic pair of boundaries in @p direction (the triangulation must already
+    /// have the matching periodicity added).
+    void set_periodic(dealii::types::boundary_id b1, dealii::types::boundary_id b2, unsigned int direction);
+    /// Body acceleration g(x,t) (gravity, driving force per unit mass): enters as ρ g.
+    void set_acceleration(std::shared_ptr<dealii::Function<dim>> g);
+    /// Force density f(x,t) (per unit volume, not multiplied by ρ).
+    void set_force_density(std::shared_ptr<dealii::Function<dim>> f);
+
+    /// Distribute DoFs, build constraints, sparsity, the pressure Laplacian and its AMG.
+    void setup();
+
+    /// Initial state at @p t0. If @p u_previous is given (the velocity at t0 − dt_previous),
+    /// BDF2 starts with a second-order step; otherwise the first step is BDF1.
+    void initialize(const dealii::Function<dim> &u0,
+                    const dealii::Function<dim> &p0,
+                    double                       t0,
+                    const dealii::Function<dim> *u_previous  = nullptr,
+                    double                       dt_previous = 0);
+
+    /// Advance one step of size @p dt.
+    const StepStatistics &step(double dt);
+
+    double       time() const { return current_time; }
+    unsigned int n_steps() const { return step_number; }
+
+    /// Hydrodynamic force on boundary @p id, evaluated consistently as minus the residual
+    /// of the discrete momentum equation tested with functions equal to e_d on it.
+    dealii::Tensor<1, dim> boundary_force(dealii::types::boundary_id id) const;
+    /// Pressure at a point (any rank may ask; the owner evaluates).
+    double pressure_at(const dealii::Point<dim> &p) const;
+    /// L2 errors of velocity and pressure (pressure means removed when p is floating).
+    std::pair<double, double> l2_errors(const dealii::Function<dim> &u_exact,
+                                        const dealii::Function<dim> &p_exact) const;
+    double max_velocity() const;
+    double kinetic_energy() const;  ///< ½∫ρ|u|²
+    double minimal_cell_diameter() const;
+
+    void add_to_output(dealii::DataOut<dim> &data_out) const;
+
+    dealii::types::global_dof_index n_velocity_dofs() const { return velocity_dofs.n_dofs(); }
+    dealii::types::global_dof_index n_pressure_dofs() const { return pressure_dofs.n_dofs(); }
+    const dealii::DoFHandler<dim> &velocity_dof_handler() const { return velocity_dofs; }
+    const dealii::DoFHandler<dim> &pressure_dof_handler() const { return pressure_dofs; }
+    const dealii::TrilinosWrappers::MPI::Vector &velocity() const { return u_n; }
+    const dealii::TrilinosWrappers::MPI::Vector &pressure() const { return p_n; }
+    const dealii::Mapping<dim> &get_mapping() const { return mapping; }
+    const dealii::TimerOutput &timer() const { return timer_output; }
+
+  private:
+    struct BdfCoefficients
+    {
+      double a0, a1, a2;   ///< BDF derivative (a0 u^{n+1} + a1 u^n + a2 u^{n-1}) / τ
+      double e0, e1;       ///< extrapolation u* = e0 u^n + e1 u^{n-1}
+    };
+    BdfCoefficients coefficients(double dt) const;
+
+    void make_velocity_constraints(double t);
+    void make_pressure_constraints();
+    void assemble_velocity_system(double dt, const BdfCoefficients &c);
+    unsigned int solve_velocity();
+    unsigned int solve_pressure_increment(double dt, const BdfCoefficients &c);
+
+    MPI_Comm                                           comm;
+    dealii::parallel::distributed::Triangulation<dim> &tria;
+    NavierStokesParameters                             prm;
+    const MaterialModel<dim>                          &material;
+    dealii::MappingQ<dim>                              mapping;
+    dealii::FESystem<dim>                              fe_velocity;
+    dealii::FE_Q<dim>                                  fe_pressure;
+    dealii::DoFHandler<dim>                            velocity_dofs, pressure_dofs;
+    dealii::IndexSet velocity_owned, velocity_relevant, pressure_owned, pressure_relevant;
+
+    std::map<dealii::types::boundary_id, std::shared_ptr<dealii::Function<dim>>> dirichlet;
+    std::set<dealii::types::boundary_id>                                           outflow;
+    struct Periodic { dealii::types::boundary_id b1, b2; unsigned int direction; };
+    std::vector<Periodic>                  periodic;
+    std::shared_ptr<dealii::Function<dim>> acceleration, force_density;
+
+    dealii::AffineConstraints<double> velocity_constraints, pressure_constraints,
+      increment_constraints;
+    bool pressure_floating = false;
+
+    dealii::TrilinosWrappers::SparseMatrix velocity_matrix, pressure_laplace;
+    dealii::TrilinosWrappers::PreconditionAMG velocity_amg, pressure_amg;
+    dealii::TrilinosWrappers::MPI::Vector     velocity_rhs, pressure_rhs;
+
+    /// Ghosted state: u^n, u^{n-1}, p^n, φ^n, φ^{n-1}.
+    dealii::TrilinosWrappers::MPI::Vector u_n, u_nm1, p_n, phi_n, phi_nm1;
+    double       current_time = 0, dt_last = 0, dt_before_last = 0;
+    unsigned int step_number = 0;
+    bool         have_history = false; ///< u^{n-1} is a real previous step
+
+    StepStatistics           stats;
+    dealii::ConditionalOStream  silent_stream{std::cout, false};
+    mutable dealii::TimerOutput timer_output;
+  };
+} // namespace twinflow::fem

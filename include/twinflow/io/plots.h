@@ -1,0 +1,49 @@
+#pragma once
+/**
+ * @file plots.h
+ * PNG plots of the monitor CSV files of a run, drawn by
+ * `scripts/plot_monitors.py` (Python 3 + matplotlib) at the end of a run.
+ *
+ * The script is found through the compile definition TWINFLOW_SOURCE_DIR
+ * (set for twinflow_lib in the top-level CMakeLists.txt) or, if set, the
+ * environment variable TWINFLOW_SOURCE_DIR. The interpreter is
+ * /usr/bin/python3 unless the environment variable TWINFLOW_PYTHON names
+ * another one. Plotting is optional: a missing interpreter, matplotlib or
+ * script gives a warning on std::cerr, never an exception.
+ */
+#include <mpi.h>
+
+#include <string>
+#include <vector>
+
+namespace twinflow::io
+{
+  /**
+   * Plot every monitor CSV in @p output_dir (and in its immediate
+   * subdirectories, e.g. fem/ and sph/, drawn together with a legend) into
+   * `<output_dir>/plots/<monitor>.png`. Runs on rank 0 of @p comm only (not
+   * collective; other ranks return true at once). Returns false (after a
+   * warning) if the plots could not be made.
+   */
+  bool
+  make_plots(const std::string &output_dir, MPI_Comm comm = MPI_COMM_WORLD);
+
+  /**
+   * Like make_plots() for several directories (e.g. {"run/fem", "run/sph"};
+   * same-named monitors are drawn on common axes, legend "FEM"/"SPH"), with extra
+   * command-line arguments passed to the script (e.g. {"--reference",
+   * "ref.csv", "--ref-x", "T", ...}; see `plot_monitors.py --help`).
+   */
+  bool
+  make_monitor_plots(const std::vector<std::string> &directories,
+             const std::vector<std::string> &extra_arguments = {},
+             MPI_Comm                        comm            = MPI_COMM_WORLD);
+
+  /// Path of plot_monitors.py, or "" if it cannot be found.
+  std::string
+  plot_script_path();
+
+  /// @p s quoted for a POSIX shell (single quotes).
+  std::string
+  shell_quote(const std::string &s);
+} // namespace twinflow::io

@@ -1,0 +1,329 @@
+#include <twinflow/core/errors.h>
+#include <twinflow/core/scene.h>
+
+#include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/utilities.h>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace twinflow
+{
+  using namespace dealii;
+
+  namespace
+  {
+    const char *face_names[6] = {"left", "right", "bottom", "top", "front", "back"};
+
+    std::array<double, 3> parse_point(const std::string &text, const std::string &entry, int dim)
+    {
+      const auto parts = Utilities::split_string_list(text, ',');
+      require(static_cast<int>(parts.size()) == dim, entry, text,
+              "expected " + std::to_string(dim) + " comma-separated numbers (the scene's dimension)");
+      std::array<double, 3> p{{0, 0, 0}};
+      for (int d = 0; d < dim; ++d)
+      {
+        try
+        {
+          std::size_t used = 0;
+          p[d]             = std::stod(parts[d], &used);
+          require(used == parts[d].size(), entry, text, "expected numbers");
+        }
+        catch (const std::logic_error &)
+        {
+          require(false, entry, text, "expected " + std::to_string(dim) + " comma-separated numbers");
+        }
+      }
+      return p;
+    }
+
+    void declare_solid(ParameterHandler &prm)
+    {
+      prm.declare_entry("Name", "solid", Patterns::Anything(), "Name used in monitors and output.");
+      prm.declare_entry("Shape", "disk", Patterns::Selection("disk|cylinder|box|plate"),
+                        "disk (2D), cylinder (3D, axis along z), box (center and size Length x Thickness), plate.");
+      prm.declare_entry("Center", "0, 0", Patterns::Anything(), "Centre of the solid (dim numbers).");
+      prm.declare_entry("Radius", "0.05", Patterns::Double(0), "Radius of a disk/cylinder [m].");
+      prm.declare_entry("Length", "0", Patterns::Double(0), "Cylinder length (3D) / box or plate length [m].");
+      prm.declare_entry("Thickness", "0", Patterns::Double(0), "Box height / plate thickness [m].");
+      prm.declare_entry("Angle", "0", Patterns::Double(), "Rotation about z [rad].");
+      prm.declare_entry("Motion", "fixed", Patterns::Selection("fixed|rigid|elastic"),
+                        "fixed: does not move; rigid: 6-DoF rigid body; elastic: ANCF structure.");
+      prm.declare_entry("Density", "1000", Patterns::Double(0), "Solid density [kg/m^3] (rigid/elastic).");
+      prm.declare_entry("Young's modulus", "1e7", Patterns::Double(0), "[Pa] (elastic).");
+      prm.declare_entry("Poisson's ratio", "0.4", Patterns::Double(0, 0.5), "[-] (elastic).");
+    }
+  } // namespace
+
+  bool Scene::wants(Method m) const { return std::find(methods.begin(), methods.end(), m) != methods.end(); }
+
+  bool Scene::monitors_contain(const std::string &m) const
+  {
+    return std::find(monitors.begin(), monitors.end(), m) != monitors.end();
+  }
+
+  void declare_scene_parameters(ParameterHandler &prm)
+  {
+    prm.declare_entry("Dimension", "2", Patterns::Integer(2, 3), "Space dimension of the scene.");
+    prm.enter_subsection("Scene");
+    {
+      prm.declare_entry("Name", "scene", Patterns::Anything(), "Name of the scene (used in output).");
+      prm.declare_entry("Methods", "fem", Patterns::List(Patterns::Selection("fem|sph"), 1, 2),
+                        "Methods to run on this scene: fem, sph, or both (fem, sph).");
+      prm.declare_entry("End time", "1", Patterns::Double(), "Final time [s]; must be > 0.");
+      prm.declare_entry("Output directory", "output/scene", Patterns::Anything(),
+                        "Where results go (created; a method's files go to <dir>/<method>/).");
+      prm.declare_entry("Output interval", "0", Patterns::Double(0),
+                        "Simulated time between ParaView outputs [s]; 0 writes the final state only.");
+    }
+    prm.leave_subsection();
+
+    prm.enter_subsection("Domain");
+    {
+      prm.declare_entry("Geometry", "box", Patterns::Selection("box|channel with cylinder"),
+                        "box: the box Lower corner..Upper corner; channel with cylinder: the DFG benchmark "
+                        "channel [0,2.2]x[0,0.41] with a body-fitted cylinder (boundary 'cylinder').");
+      prm.declare_entry("Lower corner", "0, 0", Patterns::Anything(), "Lower corner of the domain box [m].");
+      prm.declare_entry("Upper corner", "1, 1", Patterns::Anything(), "Upper corner of the domain box [m].");
+      prm.declare_entry("Periodic directions", "", Patterns::List(Patterns::Selection("x|y|z"), 0, 3),
+                        "Directions in which the domain is periodic.");
+      for (const auto *f : face_names)
+        prm.declare_entry(std::string(f) + " boundary", "no slip",
+                          Patterns::Selection("no slip|inflow|outflow|periodic"),
+                          std::string("Condition on the ") + f +
+                            " face: no slip (u = 0), inflow (prescribed profile), outflow (do-nothing), "
+                            "periodic (set by Periodic directions).");
+      prm.declare_entry("Inflow profile", "parabolic", Patterns::Selection("parabolic|uniform"),
+                        "Shape of the inflow velocity across the inflow face.");
+      prm.declare_entry("Inflow velocity", "0", Patterns::Double(0),
+                        "Maximum (parabolic) or uniform inflow speed [m/s].");
+    }
+    prm.leave_subsection();
+
+    prm.enter_subsection("Fluids");
+    {
+      prm.declare_entry("Number of fluids", "1", Patterns::Integer(1, 2),
+                        "1: single phase; 2: fluid 1 (water) in the initial region, fluid 2 (air) elsewhere.");
+      prm.declare_entry("Initial region of fluid 1", "",
+                        Patterns::Anything(),
+                        "Box 'x0, y0 [, z0] ; x1, y1 [, z1]' initially filled by fluid 1; empty = everywhere.");
+      for (const char *sub : {"Fluid 1", "Fluid 2"})
+      {
+        prm.enter_subsection(sub);
+        prm.declare_entry("Name", std::string(sub) == "Fluid 1" ? "water" : "air", Patterns::Anything(), "");
+        prm.declare_entry("Density", std::string(sub) == "Fluid 1" ? "1000" : "1.2", Patterns::Double(0),
+                          "Density [kg/m^3], > 0.");
+        prm.declare_entry("Viscosity", std::string(sub) == "Fluid 1" ? "1e-3" : "1.8e-5", Patterns::Double(0),
+                          "Dynamic viscosity [Pa s], > 0.");
+        prm.leave_subsection();
+      }
+    }
+    prm.leave_subsection();
+
+    prm.enter_subsection("Forces");
+    prm.declare_entry("Gravity", "0, 0", Patterns::Anything(), "Gravity acceleration vector [m/s^2].");
+    prm.declare_entry("Body force", "0, 0", Patterns::Anything(),
+                      "Additional body acceleration driving the flow [m/s^2] (e.g. 1, 0 for the periodic cylinder).");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Solids");
+    prm.declare_entry("Number of solids", "0", Patterns::Integer(0, 4), "Solids in the scene (each in 'Solid N').");
+    for (int i = 1; i <= 4; ++i)
+    {
+      prm.enter_subsection("Solid " + std::to_string(i));
+      declare_solid(prm);
+      prm.leave_subsection();
+    }
+    prm.leave_subsection();
+
+    prm.enter_subsection("Monitors");
+    prm.declare_entry("Monitors", "energy", Patterns::List(Patterns::Selection("forces|pressure probes|energy"), 0, 3),
+                      "Time series written as CSV: forces (on each solid: F, C_d, C_l), pressure probes, energy.");
+    prm.declare_entry("Pressure probes", "", Patterns::Anything(),
+                      "Points 'x, y; x, y; ...' where the pressure is recorded (and their difference p1 - p2).");
+    prm.declare_entry("Reference velocity", "1", Patterns::Double(0), "U in C = 2F/(rho U^2 D) [m/s].");
+    prm.declare_entry("Reference length", "1", Patterns::Double(0), "D in C = 2F/(rho U^2 D) [m].");
+    prm.leave_subsection();
+
+    prm.enter_subsection("References");
+    prm.declare_entry("Drag coefficient", "", Patterns::Anything(), "Reference C_d (empty: none).");
+    prm.declare_entry("Lift coefficient", "", Patterns::Anything(), "Reference C_l (empty: none).");
+    prm.declare_entry("Pressure difference", "", Patterns::Anything(), "Reference p(probe 1) - p(probe 2).");
+    prm.leave_subsection();
+  }
+
+  namespace
+  {
+    std::optional<double> optional_number(ParameterHandler &prm, const std::string &entry, const std::string &path)
+    {
+      const std::string s = prm.get(entry);
+      if (s.find_first_not_of(" \t") == std::string::npos)
+        return std::nullopt;
+      try
+      {
+        return std::stod(s);
+      }
+      catch (const std::logic_error &)
+      {
+        require(false, path + "/" + entry, s, "a number, or empty for no reference");
+      }
+      return std::nullopt;
+    }
+
+    Region parse_region(const std::string &text, const std::string &entry, int dim)
+    {
+      const auto halves = Utilities::split_string_list(text, ';');
+      require(halves.size() == 2, entry, text, "expected 'lower corner ; upper corner'");
+      Region r;
+      r.lower = parse_point(halves[0], entry, dim);
+      r.upper = parse_point(halves[1], entry, dim);
+      for (int d = 0; d < dim; ++d)
+        require(r.lower[d] < r.upper[d], entry, text, "each lower coordinate must be below the upper one");
+      return r;
+    }
+  } // namespace
+
+  Scene parse_scene(ParameterHandler &prm, const std::string &file)
+  {
+    Scene s;
+    s.file      = file;
+    s.dimension = prm.get_integer("Dimension");
+    const int dim = s.dimension;
+
+    prm.enter_subsection("Scene");
+    s.name = prm.get("Name");
+    for (const auto &m : Utilities::split_string_list(prm.get("Methods")))
+      s.methods.push_back(m == "fem" ? Method::fem : Method::sph);
+    s.end_time = prm.get_double("End time");
+    require(s.end_time > 0 && std::isfinite(s.end_time), "Scene/End time", prm.get("End time"),
+            "the end time must be a positive number of seconds");
+    s.output_directory = prm.get("Output directory");
+    require(!s.output_directory.empty(), "Scene/Output directory", "", "a directory path");
+    s.output_interval = prm.get_double("Output interval");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Domain");
+    s.geometry     = prm.get("Geometry");
+    if (s.geometry == "channel with cylinder")
+    {
+      require(dim == 2 || dim == 3, "Dimension", std::to_string(dim), "2 or 3");
+      s.domain.lower = {{0, 0, 0}};
+      s.domain.upper = {{2.2, 0.41, 0.41}};
+    }
+    else
+    {
+      s.domain.lower = parse_point(prm.get("Lower corner"), "Domain/Lower corner", dim);
+      s.domain.upper = parse_point(prm.get("Upper corner"), "Domain/Upper corner", dim);
+      for (int d = 0; d < dim; ++d)
+        require(s.domain.lower[d] < s.domain.upper[d], "Domain/Upper corner", prm.get("Upper corner"),
+                "every coordinate of the upper corner must exceed the lower corner's");
+    }
+    for (const auto &d : Utilities::split_string_list(prm.get("Periodic directions")))
+    {
+      const int k = d == "x" ? 0 : d == "y" ? 1 : 2;
+      require(k < dim, "Domain/Periodic directions", d, "a direction of the scene's dimension");
+      s.periodic[k] = true;
+    }
+    for (int f = 0; f < 2 * dim; ++f)
+    {
+      const std::string entry = std::string(face_names[f]) + " boundary";
+      const std::string v     = prm.get(entry);
+      s.boundary[f] = v == "inflow" ? BoundaryKind::inflow : v == "outflow" ? BoundaryKind::outflow
+                    : v == "periodic" ? BoundaryKind::periodic : BoundaryKind::no_slip;
+      if (s.periodic[f / 2])
+        s.boundary[f] = BoundaryKind::periodic;
+      require(s.boundary[f] != BoundaryKind::periodic || s.periodic[f / 2], "Domain/" + entry, v,
+              "'periodic' needs the direction listed in Domain/Periodic directions");
+    }
+    s.inflow_profile  = prm.get("Inflow profile");
+    s.inflow_velocity = prm.get_double("Inflow velocity");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Fluids");
+    const int n_fluids = prm.get_integer("Number of fluids");
+    for (int i = 1; i <= n_fluids; ++i)
+    {
+      prm.enter_subsection("Fluid " + std::to_string(i));
+      Fluid f{prm.get("Name"), prm.get_double("Density"), prm.get_double("Viscosity")};
+      const std::string path = "Fluids/Fluid " + std::to_string(i);
+      require(f.density > 0, path + "/Density", prm.get("Density"), "the density must be > 0");
+      require(f.viscosity > 0, path + "/Viscosity", prm.get("Viscosity"), "the viscosity must be > 0");
+      s.fluids.push_back(f);
+      prm.leave_subsection();
+    }
+    const std::string region = prm.get("Initial region of fluid 1");
+    if (region.find_first_not_of(" \t") != std::string::npos)
+    {
+      s.fluid_region = parse_region(region, "Fluids/Initial region of fluid 1", dim);
+      for (int d = 0; d < dim; ++d)
+        require(s.fluid_region->lower[d] >= s.domain.lower[d] - 1e-12 &&
+                  s.fluid_region->upper[d] <= s.domain.upper[d] + 1e-12,
+                "Fluids/Initial region of fluid 1", region, "the region must lie inside the domain box");
+    }
+    prm.leave_subsection();
+
+    prm.enter_subsection("Forces");
+    s.gravity    = parse_point(prm.get("Gravity"), "Forces/Gravity", dim);
+    s.body_force = parse_point(prm.get("Body force"), "Forces/Body force", dim);
+    prm.leave_subsection();
+
+    prm.enter_subsection("Solids");
+    const int n_solids = prm.get_integer("Number of solids");
+    for (int i = 1; i <= n_solids; ++i)
+    {
+      const std::string path = "Solids/Solid " + std::to_string(i);
+      prm.enter_subsection("Solid " + std::to_string(i));
+      Solid b;
+      b.name           = prm.get("Name");
+      b.shape          = prm.get("Shape");
+      b.center         = parse_point(prm.get("Center"), path + "/Center", dim);
+      b.radius         = prm.get_double("Radius");
+      b.length         = prm.get_double("Length");
+      b.thickness      = prm.get_double("Thickness");
+      b.angle          = prm.get_double("Angle");
+      const std::string m = prm.get("Motion");
+      b.motion         = m == "rigid" ? SolidMotion::rigid : m == "elastic" ? SolidMotion::elastic : SolidMotion::fixed;
+      b.density        = prm.get_double("Density");
+      b.youngs_modulus = prm.get_double("Young's modulus");
+      b.poisson_ratio  = prm.get_double("Poisson's ratio");
+      require(!(b.shape == "disk" && dim != 2), path + "/Shape", b.shape, "disk is 2D; use cylinder in 3D");
+      require(!(b.shape == "cylinder" && dim != 3), path + "/Shape", b.shape, "cylinder is 3D; use disk in 2D");
+      if (b.shape == "disk" || b.shape == "cylinder")
+      {
+        require(b.radius > 0, path + "/Radius", prm.get("Radius"), "the radius must be > 0");
+        for (int d = 0; d < std::min(dim, 2); ++d)
+          require(b.center[d] - b.radius >= s.domain.lower[d] - 1e-12 && b.center[d] + b.radius <= s.domain.upper[d] + 1e-12,
+                  path + "/Center", prm.get("Center"), "the solid must lie inside the domain box");
+      }
+      s.solids.push_back(b);
+      prm.leave_subsection();
+    }
+    prm.leave_subsection();
+
+    prm.enter_subsection("Monitors");
+    s.monitors = Utilities::split_string_list(prm.get("Monitors"));
+    const std::string probes = prm.get("Pressure probes");
+    for (const auto &pt : Utilities::split_string_list(probes, ';'))
+      s.pressure_probes.push_back(parse_point(pt, "Monitors/Pressure probes", dim));
+    s.reference_velocity = prm.get_double("Reference velocity");
+    s.reference_length   = prm.get_double("Reference length");
+    require(s.reference_velocity > 0, "Monitors/Reference velocity", prm.get("Reference velocity"), "must be > 0");
+    require(s.reference_length > 0, "Monitors/Reference length", prm.get("Reference length"), "must be > 0");
+    require(!s.monitors_contain("pressure probes") || !s.pressure_probes.empty(), "Monitors/Pressure probes", probes,
+            "the 'pressure probes' monitor needs at least one point");
+    prm.leave_subsection();
+
+    prm.enter_subsection("References");
+    s.reference_drag                = optional_number(prm, "Drag coefficient", "References");
+    s.reference_lift                = optional_number(prm, "Lift coefficient", "References");
+    s.reference_pressure_difference = optional_number(prm, "Pressure difference", "References");
+    prm.leave_subsection();
+
+    if (s.geometry == "channel with cylinder")
+      require(s.solids.size() == 1 && s.solids[0].motion == SolidMotion::fixed, "Solids/Number of solids",
+              std::to_string(s.solids.size()),
+              "the body-fitted 'channel with cylinder' geometry holds exactly one fixed solid (the cylinder)");
+    return s;
+  }
+} // namespace twinflow

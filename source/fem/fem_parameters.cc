@@ -1,0 +1,61 @@
+#include <twinflow/core/errors.h>
+#include <twinflow/fem/fem_simulation.h>
+
+#include <deal.II/base/utilities.h>
+
+namespace twinflow::fem
+{
+  void FemParameters::declare(dealii::ParameterHandler &prm)
+  {
+    using namespace dealii;
+    prm.enter_subsection("FEM");
+    prm.declare_entry("Global refinements", "0", Patterns::Integer(0, 12),
+                      "Uniform refinements of the scene's coarse mesh.");
+    prm.declare_entry("Time step", "0.01", Patterns::Double(0),
+                      "Time step [s] (the maximum one when CFL control is on); must be > 0.");
+    prm.declare_entry("CFL number", "0", Patterns::Double(0),
+                      "> 0: the step is CFL * h_min / max|u|, capped by 'Time step'; 0: fixed step.");
+    prm.declare_entry("Steady-state tolerance", "0", Patterns::Double(0),
+                      "> 0: stop before the end time once max|u^{n+1}-u^n| / (dt max|u|) falls below it.");
+    prm.declare_entry("Refinement study", "", Patterns::List(Patterns::Integer(0, 12), 0, 12),
+                      "Global refinement levels of a refinement study (empty: a single run). Each level is "
+                      "run in <output>/fem/level_<n>/ and refinement_study.csv + a plot of error against wall time are written.");
+    prm.enter_subsection("Navier-Stokes");
+    NavierStokesParameters::declare(prm);
+    prm.leave_subsection();
+    prm.leave_subsection();
+  }
+
+  void FemParameters::parse(dealii::ParameterHandler &prm)
+  {
+    prm.enter_subsection("FEM");
+    global_refinements = prm.get_integer("Global refinements");
+    time_step          = prm.get_double("Time step");
+    require(time_step > 0, "FEM/Time step", prm.get("Time step"), "the time step must be > 0");
+    cfl              = prm.get_double("CFL number");
+    steady_tolerance = prm.get_double("Steady-state tolerance");
+    study_levels.clear();
+    for (const auto &s : dealii::Utilities::split_string_list(prm.get("Refinement study")))
+      study_levels.push_back(std::stoi(s));
+    prm.enter_subsection("Navier-Stokes");
+    navier_stokes.parse(prm);
+    prm.leave_subsection();
+    prm.leave_subsection();
+  }
+
+  FemRunResult run_fem_scene(const Scene &scene, const FemParameters &parameters, const std::string &dir)
+  {
+    return scene.dimension == 2 ? run_fem<2>(scene, parameters, dir) : run_fem<3>(scene, parameters, dir);
+  }
+} // namespace twinflow::fem
+
+namespace twinflow::fem::internal
+{
+  std::string join(const std::vector<std::string> &v, const std::string &sep)
+  {
+    std::string s;
+    for (std::size_t i = 0; i < v.size(); ++i)
+      s += (i ? sep : "") + v[i];
+    return s;
+  }
+} // namespace twinflow::fem::internal

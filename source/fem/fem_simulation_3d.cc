@@ -1,0 +1,5 @@
+// Explicit instantiation of run_fem<3>.
+#include "fem_simulation.templates.h"
+
+template twinflow::fem::FemRunResult
+twinflow::fem::run_fem<3>(const twinflow::Scene &, const twinflow::fem::FemParameters &, const std::string &);

@@ -1,0 +1,434 @@
+// Implementation of NavierStokes<dim>; instantiated in navier_stokes_2d.cc / _3d.cc.
+#pragma once
+#include <twinflow/fem/navier_stokes.h>
+
+#include <deal.II/base/conditional_ostream.h>
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/dofs/dof_renumbering.h>
+#include <deal.II/dofs/dof_tools.h>
+#include <deal.II/fe/fe_values.h>
+#include <deal.II/grid/grid_tools.h>
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
+#include <deal.II/lac/solver_cg.h>
+#include <deal.II/lac/solver_control.h>
+#include <deal.II/lac/solver_gmres.h>
+#include <deal.II/lac/sparsity_tools.h>
+#include <deal.II/numerics/vector_tools.h>
+
+namespace twinflow::fem
+{
+  using namespace dealii;
+
+  template <int dim>
+  NavierStokes<dim>::NavierStokes(parallel::distributed::Triangulation<dim> &tria,
+                                  const NavierStokesParameters              &parameters,
+                                  const MaterialModel<dim>                  &material)
+    : comm(tria.get_communicator())
+    , tria(tria)
+    , prm(parameters)
+    , material(material)
+    , mapping(std::max(1u, parameters.mapping_degree))
+    , fe_velocity(FE_Q<dim>(parameters.velocity_degree), dim)
+    , fe_pressure(parameters.velocity_degree - 1)
+    , velocity_dofs(tria)
+    , pressure_dofs(tria)
+    , timer_output(comm, silent_stream, TimerOutput::never,
+                   TimerOutput::wall_times)
+  {
+    AssertThrow(parameters.velocity_degree >= 2,
+                ExcMessage("Velocity degree must be >= 2 (Taylor-Hood Q_{k+1}/Q_k with k >= 1)."));
+  }
+
+  template <int dim>
+  void NavierStokes<dim>::set_dirichlet(types::boundary_id id, std::shared_ptr<Function<dim>> u)
+  {
+    AssertThrow(u && u->n_components == dim, ExcMessage("Dirichlet velocity needs dim components."));
+    dirichlet[id] = std::move(u);
+  }
+
+  template <int dim>
+  void NavierStokes<dim>::set_outflow(types::boundary_id id) { outflow.insert(id); }
+
+  template <int dim>
+  void NavierStokes<dim>::set_periodic(types::boundary_id b1, types::boundary_id b2, unsigned int d)
+  {
+    periodic.push_back({b1, b2, d});
+  }
+
+  template <int dim>
+  void NavierStokes<dim>::set_acceleration(std::shared_ptr<Function<dim>> g) { acceleration = std::move(g); }
+
+  template <int dim>
+  void NavierStokes<dim>::set_force_density(std::shared_ptr<Function<dim>> f) { force_density = std::move(f); }
+
+  template <int dim>
+  void NavierStokes<dim>::make_velocity_constraints(const double t)
+  {
+    velocity_constraints.clear();
+    velocity_constraints.reinit(velocity_relevant);
+    DoFTools::make_hanging_node_constraints(velocity_dofs, velocity_constraints);
+    for (const auto &pp : periodic)
+      DoFTools::make_periodicity_constraints(velocity_dofs, pp.b1, pp.b2, pp.direction,
+                                             velocity_constraints);
+    for (const auto &[id, fun] : dirichlet)
+    {
+      fun->set_time(t);
+      VectorTools::interpolate_boundary_values(mapping, velocity_dofs, id, *fun, velocity_constraints);
+    }
+    velocity_constraints.close();
+  }
+
+  template <int dim>
+  void NavierStokes<dim>::make_pressure_constraints()
+  {
+    pressure_constraints.clear();
+    pressure_constraints.reinit(pressure_relevant);
+    DoFTools::make_hanging_node_constraints(pressure_dofs, pressure_constraints);
+    for (const auto &pp : periodic)
+      DoFTools::make_periodicity_constraints(pressure_dofs, pp.b1, pp.b2, pp.direction,
+                                             pressure_constraints);
+    pressure_constraints.close();
+
+    increment_constraints.clear();
+    increment_constraints.reinit(pressure_relevant);
+    increment_constraints.merge(pressure_constraints);
+    for (const auto id : outflow)
+      VectorTools::interpolate_boundary_values(mapping, pressure_dofs, id,
+                                               Functions::ZeroFunction<dim>(), increment_constraints);
+    pressure_floating = outflow.empty();
+    if (pressure_floating)
+    {
+      // Pure Neumann problem for φ: pin the smallest unconstrained owned DoF (any rank).
+      types::global_dof_index candidate = numbers::invalid_dof_index;
+      for (const auto i : pressure_owned)
+        if (!increment_constraints.is_constrained(i))
+        {
+          candidate = i;
+          break;
+        }
+      const types::global_dof_index pin = Utilities::MPI::min(candidate, comm);
+      AssertThrow(pin != numbers::invalid_dof_index, ExcMessage("No pressure DoF available to pin."));
+      if (pressure_relevant.is_element(pin))
+        increment_constraints.add_line(pin);
+    }
+    increment_constraints.close();
+  }
+
+  template <int dim>
+  void NavierStokes<dim>::setup()
+  {
+    TimerOutput::Scope scope(timer_output, "setup");
+    velocity_dofs.distribute_dofs(fe_velocity);
+    pressure_dofs.distribute_dofs(fe_pressure);
+    DoFRenumbering::Cuthill_McKee(velocity_dofs);
+    DoFRenumbering::Cuthill_McKee(pressure_dofs);
+    velocity_owned = velocity_dofs.locally_owned_dofs();
+    pressure_owned = pressure_dofs.locally_owned_dofs();
+    DoFTools::extract_locally_relevant_dofs(velocity_dofs, velocity_relevant);
+    DoFTools::extract_locally_relevant_dofs(pressure_dofs, pressure_relevant);
+
+    make_velocity_constraints(current_time);
+    make_pressure_constraints();
+
+    {
+      DynamicSparsityPattern dsp(velocity_relevant);
+      DoFTools::make_sparsity_pattern(velocity_dofs, dsp, velocity_constraints, false);
+      SparsityTools::distribute_sparsity_pattern(dsp, velocity_owned, comm, velocity_relevant);
+      velocity_matrix.reinit(velocity_owned, velocity_owned, dsp, comm);
+    }
+    {
+      DynamicSparsityPattern dsp(pressure_relevant);
+      DoFTools::make_sparsity_pattern(pressure_dofs, dsp, increment_constraints, false);
+      SparsityTools::distribute_sparsity_pattern(dsp, pressure_owned, comm, pressure_relevant);
+      pressure_laplace.reinit(pressure_owned, pressure_owned, dsp, comm);
+    }
+
+    // Pressure-increment Laplacian: constant for a fixed mesh, assembled once.
+    const QGauss<dim>   quad(fe_pressure.degree + 1);
+    FEValues<dim>       fev(mapping, fe_pressure, quad, update_gradients | update_JxW_values);
+    const unsigned int  n = fe_pressure.n_dofs_per_cell();
+    FullMatrix<double>  cell_matrix(n, n);
+    std::vector<types::global_dof_index> indices(n);
+    for (const auto &cell : pressure_dofs.active_cell_iterators())
+      if (cell->is_locally_owned())
+      {
+        fev.reinit(cell);
+        cell_matrix = 0;
+        for (unsigned int q = 0; q < quad.size(); ++q)
+          for (unsigned int i = 0; i < n; ++i)
+            for (unsigned int j = 0; j < n; ++j)
+              cell_matrix(i, j) += fev.shape_grad(i, q) * fev.shape_grad(j, q) * fev.JxW(q);
+        cell->get_dof_indices(indices);
+        increment_constraints.distribute_local_to_global(cell_matrix, indices, pressure_laplace);
+      }
+    pressure_laplace.compress(VectorOperation::add);
+
+    TrilinosWrappers::PreconditionAMG::AdditionalData amg;
+    amg.elliptic              = true;
+    amg.higher_order_elements = fe_pressure.degree > 1;
+    amg.smoother_sweeps       = 2;
+    amg.aggregation_threshold = 0.02;
+    pressure_amg.initialize(pressure_laplace, amg);
+
+    velocity_rhs.reinit(velocity_owned, comm);
+    pressure_rhs.reinit(pressure_owned, comm);
+    for (auto *v : {&u_n, &u_nm1})
+      v->reinit(velocity_owned, velocity_relevant, comm);
+    for (auto *v : {&p_n, &phi_n, &phi_nm1})
+      v->reinit(pressure_owned, pressure_relevant, comm);
+  }
+
+  template <int dim>
+  void NavierStokes<dim>::initialize(const Function<dim> &u0,
+                                     const Function<dim> &p0,
+                                     const double         t0,
+                                     const Function<dim> *u_previous,
+                                     const double         dt_previous)
+  {
+    current_time = t0;
+    step_number  = 0;
+    TrilinosWrappers::MPI::Vector tmp_u(velocity_owned, comm), tmp_p(pressure_owned, comm);
+    const_cast<Function<dim> &>(u0).set_time(t0);
+    const_cast<Function<dim> &>(p0).set_time(t0);
+    VectorTools::interpolate(mapping, velocity_dofs, u0, tmp_u);
+    make_velocity_constraints(t0);
+    velocity_constraints.distribute(tmp_u);
+    u_n = tmp_u;
+    VectorTools::interpolate(mapping, pressure_dofs, p0, tmp_p);
+    pressure_constraints.distribute(tmp_p);
+    p_n = tmp_p;
+    if (u_previous != nullptr)
+    {
+      AssertThrow(dt_previous > 0, ExcMessage("initialize: dt_previous must be > 0."));
+      const_cast<Function<dim> *>(u_previous)->set_time(t0 - dt_previous);
+      VectorTools::interpolate(mapping, velocity_dofs, *u_previous, tmp_u);
+      velocity_constraints.distribute(tmp_u);
+      u_nm1          = tmp_u;
+      dt_last        = dt_previous;
+      have_history   = true;
+    }
+    else
+    {
+      u_nm1        = u_n;
+      have_history = false;
+    }
+    phi_n   = 0;
+    phi_nm1 = 0;
+  }
+
+  template <int dim>
+  typename NavierStokes<dim>::BdfCoefficients NavierStokes<dim>::coefficients(const double dt) const
+  {
+    if (prm.scheme == TimeScheme::bdf1 || !have_history)
+      return {1.0, -1.0, 0.0, 1.0, 0.0};
+    const double w = dt / dt_last;
+    return {(1 + 2 * w) / (1 + w), -(1 + w), w * w / (1 + w), 1 + w, -w};
+  }
+
+  template <int dim>
+  const StepStatistics &NavierStokes<dim>::step(const double dt)
+  {
+    AssertThrow(dt > 0 && std::isfinite(dt), ExcMessage("Navier-Stokes step: time step must be positive."));
+    const BdfCoefficients c = coefficients(dt);
+    const double          t_new = current_time + dt;
+    {
+      TimerOutput::Scope scope(timer_output, "velocity assembly");
+      make_velocity_constraints(t_new);
+      assemble_velocity_system(dt, c);
+    }
+    {
+      TimerOutput::Scope scope(timer_output, "velocity solve");
+      stats.velocity_iterations = solve_velocity();
+    }
+    {
+      TimerOutput::Scope scope(timer_output, "pressure projection");
+      stats.pressure_iterations = solve_pressure_increment(dt, c);
+    }
+    dt_before_last = dt_last;
+    dt_last        = dt;
+    current_time   = t_new;
+    have_history   = true;
+    ++step_number;
+    return stats;
+  }
+
+  template <int dim>
+  void NavierStokes<dim>::assemble_velocity_system(const double dt, const BdfCoefficients &c)
+  {
+    velocity_matrix = 0;
+    velocity_rhs    = 0;
+    const double t_new = current_time + dt;
+    const QGauss<dim>   quad(fe_velocity.degree + 1);
+    FEValues<dim>       fev(mapping, fe_velocity, quad,
+                            update_values | update_gradients | update_JxW_values | update_quadrature_points);
+    FEValues<dim>       fep(mapping, fe_pressure, quad, update_values);
+    const unsigned int  n  = fe_velocity.n_dofs_per_cell();
+    const unsigned int  nq = quad.size();
+    const FEValuesExtractors::Vector vel(0);
+    const bool symmetric = prm.viscous_form == ViscousForm::symmetric;
+    const bool constant  = material.is_constant();
+
+    FullMatrix<double>                   cell_matrix(n, n);
+    Vector<double>                       cell_rhs(n);
+    std::vector<types::global_dof_index> indices(n);
+    std::vector<Tensor<1, dim>>          un(nq), unm1(nq);
+    std::vector<double>                  div_un(nq), div_unm1(nq), p_val(nq), phi_val(nq), phim_val(nq);
+    std::vector<Vector<double>>          g_val(nq, Vector<double>(dim)), f_val(nq, Vector<double>(dim));
+    std::vector<unsigned int>            comp(n);
+    for (unsigned int i = 0; i < n; ++i)
+      comp[i] = fe_velocity.system_to_component_index(i).first;
+    std::vector<double>         s(n);
+    std::vector<Tensor<1, dim>> ds(n);
+    MaterialValues<dim>         mat;
+    const double pressure_w1 = (prm.scheme == TimeScheme::bdf2) ? 4. / 3. : 1.;
+    const double pressure_w2 = (prm.scheme == TimeScheme::bdf2) ? -1. / 3. : 0.;
+    if (acceleration) acceleration->set_time(t_new);
+    if (force_density) force_density->set_time(t_new);
+
+    for (const auto &cell : velocity_dofs.active_cell_iterators())
+    {
+      if (!cell->is_locally_owned())
+        continue;
+      fev.reinit(cell);
+      const typename DoFHandler<dim>::active_cell_iterator pcell(&tria, cell->level(), cell->index(), &pressure_dofs);
+      fep.reinit(pcell);
+      fev[vel].get_function_values(u_n, un);
+      fev[vel].get_function_values(u_nm1, unm1);
+      fev[vel].get_function_divergences(u_n, div_un);
+      fev[vel].get_function_divergences(u_nm1, div_unm1);
+      fep.get_function_values(p_n, p_val);
+      fep.get_function_values(phi_n, phi_val);
+      fep.get_function_values(phi_nm1, phim_val);
+      material.evaluate(cell, fev.get_quadrature_points(), t_new, mat);
+      if (acceleration) acceleration->vector_value_list(fev.get_quadrature_points(), g_val);
+      if (force_density) force_density->vector_value_list(fev.get_quadrature_points(), f_val);
+
+      cell_matrix = 0;
+      cell_rhs    = 0;
+      for (unsigned int q = 0; q < nq; ++q)
+      {
+        const double rho = mat.density[q], mu = mat.viscosity[q], JxW = fev.JxW(q);
+        const Tensor<1, dim> u_star   = c.e0 * un[q] + c.e1 * unm1[q];
+        const double         div_star = c.e0 * div_un[q] + c.e1 * div_unm1[q];
+        double mass = rho * c.a0 / dt + 0.5 * rho * div_star;
+        if (!constant)
+          mass += 0.5 * (mat.density_rate[q] + mat.density_gradient[q] * u_star);
+        Tensor<1, dim> rhs = -rho / dt * (c.a1 * un[q] + c.a2 * unm1[q]);
+        for (unsigned int d = 0; d < dim; ++d)
+        {
+          if (acceleration) rhs[d] += rho * g_val[q](d);
+          if (force_density) rhs[d] += f_val[q](d);
+        }
+        const double p_sharp = p_val[q] + pressure_w1 * phi_val[q] + pressure_w2 * phim_val[q];
+        for (unsigned int i = 0; i < n; ++i)
+        {
+          s[i]  = fev.shape_value(i, q);
+          ds[i] = fev.shape_grad(i, q);
+        }
+        for (unsigned int i = 0; i < n; ++i)
+        {
+          const unsigned int ci = comp[i];
+          for (unsigned int j = 0; j < n; ++j)
+          {
+            double a = 0;
+            if (ci == comp[j])
+              a = (mass * s[j] + rho * (u_star * ds[j])) * s[i] + mu * (ds[i] * ds[j]);
+            if (symmetric)
+              a += mu * ds[i][comp[j]] * ds[j][ci];
+            cell_matrix(i, j) += a * JxW;
+          }
+          cell_rhs(i) += (rhs[ci] * s[i] + p_sharp * ds[i][ci]) * JxW;
+        }
+      }
+      cell->get_dof_indices(indices);
+      velocity_constraints.distribute_local_to_global(cell_matrix, cell_rhs, indices, velocity_matrix, velocity_rhs);
+    }
+    velocity_matrix.compress(VectorOperation::add);
+    velocity_rhs.compress(VectorOperation::add);
+  }
+
+  template <int dim>
+  unsigned int NavierStokes<dim>::solve_velocity()
+  {
+    if (step_number % prm.amg_rebuild_interval == 0 || step_number == 0)
+    {
+      TrilinosWrappers::PreconditionAMG::AdditionalData amg;
+      amg.elliptic              = false;
+      amg.higher_order_elements = true;
+      amg.smoother_sweeps       = 2;
+      amg.smoother_type         = "symmetric Gauss-Seidel"; // Chebyshev assumes SPD
+      amg.aggregation_threshold = 0.02;
+      std::vector<std::vector<bool>> modes;
+      DoFTools::extract_constant_modes(velocity_dofs, ComponentMask(), modes);
+      amg.constant_modes = modes;
+      velocity_amg.initialize(velocity_matrix, amg);
+    }
+    TrilinosWrappers::MPI::Vector x(velocity_owned, comm);
+    // Start from the previous velocity (a good guess for small steps).
+    x = u_n;
+    velocity_constraints.set_zero(x);
+    const double  target = std::max(prm.linear_tolerance * velocity_rhs.l2_norm(), 1e-300);
+    SolverControl control(5000, target);
+    SolverGMRES<TrilinosWrappers::MPI::Vector> gmres(
+      control, SolverGMRES<TrilinosWrappers::MPI::Vector>::AdditionalData(100, true));
+    gmres.solve(velocity_matrix, x, velocity_rhs, velocity_amg);
+    velocity_constraints.distribute(x);
+    TrilinosWrappers::MPI::Vector change(velocity_owned, comm);
+    change = u_n;
+    change -= x;
+    stats.velocity_change = change.linfty_norm();
+    u_nm1 = u_n;
+    u_n   = x;
+    return control.last_step();
+  }
+
+  template <int dim>
+  unsigned int NavierStokes<dim>::solve_pressure_increment(const double dt, const BdfCoefficients &c)
+  {
+    pressure_rhs = 0;
+    const QGauss<dim>  quad(fe_velocity.degree + 1);
+    FEValues<dim>      fev(mapping, fe_velocity, quad, update_gradients);
+    FEValues<dim>      fep(mapping, fe_pressure, quad, update_values | update_JxW_values);
+    const unsigned int n = fe_pressure.n_dofs_per_cell();
+    Vector<double>     cell_rhs(n);
+    std::vector<double> div_u(quad.size());
+    std::vector<types::global_dof_index> indices(n);
+    const FEValuesExtractors::Vector vel(0);
+    const double factor = -c.a0 * material.minimum_density() / dt;
+    double div_sq = 0;
+    for (const auto &cell : pressure_dofs.active_cell_iterators())
+      if (cell->is_locally_owned())
+      {
+        fep.reinit(cell);
+        const typename DoFHandler<dim>::active_cell_iterator vcell(&tria, cell->level(), cell->index(), &velocity_dofs);
+        fev.reinit(vcell);
+        fev[vel].get_function_divergences(u_n, div_u);
+        cell_rhs = 0;
+        for (unsigned int q = 0; q < quad.size(); ++q)
+        {
+          div_sq += div_u[q] * div_u[q] * fep.JxW(q);
+          for (unsigned int i = 0; i < n; ++i)
+            cell_rhs(i) += factor * div_u[q] * fep.shape_value(i, q) * fep.JxW(q);
+        }
+        cell->get_dof_indices(indices);
+        increment_constraints.distribute_local_to_global(cell_rhs, indices, pressure_rhs);
+      }
+    pressure_rhs.compress(VectorOperation::add);
+    stats.divergence_l2 = std::sqrt(Utilities::MPI::sum(div_sq, comm));
+
+    TrilinosWrappers::MPI::Vector phi(pressure_owned, comm);
+    const double  target = std::max(prm.linear_tolerance * pressure_rhs.l2_norm(), 1e-300);
+    SolverControl control(5000, target);
+    SolverCG<TrilinosWrappers::MPI::Vector> cg(control);
+    cg.solve(pressure_laplace, phi, pressure_rhs, pressure_amg);
+    increment_constraints.distribute(phi);
+
+    TrilinosWrappers::MPI::Vector p(pressure_owned, comm);
+    p = p_n;
+    p += phi;
+    phi_nm1 = phi_n;
+    phi_n   = phi;
+    p_n     = p;
+    return control.last_step();
+  }
+} // namespace twinflow::fem

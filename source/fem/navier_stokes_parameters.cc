@@ -1,0 +1,46 @@
+#include <twinflow/fem/navier_stokes.h>
+
+namespace twinflow::fem
+{
+  void NavierStokesParameters::declare(dealii::ParameterHandler &prm)
+  {
+    using dealii::Patterns::Integer;
+    using dealii::Patterns::Double;
+    using dealii::Patterns::Selection;
+    prm.declare_entry("Velocity degree", "2", Integer(2, 4),
+                      "Polynomial degree k+1 of the Taylor-Hood pair Q_{k+1}/Q_k (pressure degree = velocity degree - 1).");
+    prm.declare_entry("Mapping degree", "auto", dealii::Patterns::Anything(),
+                      "Degree of the geometry mapping: a number >= 1, or 'auto' (= velocity degree on meshes with curved boundaries, 1 otherwise).");
+    prm.declare_entry("Time scheme", "bdf2", Selection("bdf1|bdf2"),
+                      "Time discretisation of the projection scheme: backward Euler or (variable-step) BDF2.");
+    prm.declare_entry("Viscous term", "auto", Selection("auto|laplacian|symmetric"),
+                      "Form of the viscous term: mu grad u : grad v (constant viscosity) or 2 mu eps(u) : eps(v). "
+                      "'auto' picks laplacian for one fluid and symmetric for two.");
+    prm.declare_entry("Linear solver tolerance", "1e-10", Double(1e-16, 1e-2),
+                      "Relative residual reduction of every Krylov solve.");
+    prm.declare_entry("AMG rebuild interval", "1", Integer(1, 1000),
+                      "Rebuild the velocity AMG preconditioner every n steps (it is reused in between).");
+  }
+
+  void NavierStokesParameters::parse(dealii::ParameterHandler &prm)
+  {
+    velocity_degree      = prm.get_integer("Velocity degree");
+    scheme               = prm.get("Time scheme") == "bdf1" ? TimeScheme::bdf1 : TimeScheme::bdf2;
+    const std::string vf = prm.get("Viscous term");
+    viscous_form         = vf == "symmetric" ? ViscousForm::symmetric : ViscousForm::laplacian;
+    linear_tolerance     = prm.get_double("Linear solver tolerance");
+    amg_rebuild_interval = prm.get_integer("AMG rebuild interval");
+    const std::string md = prm.get("Mapping degree");
+    if (md == "auto")
+      mapping_degree = 0; // resolved by the simulation from the geometry
+    else
+    {
+      int v = 0;
+      try { v = std::stoi(md); } catch (...) { v = 0; }
+      AssertThrow(v >= 1 && v <= 6,
+                  dealii::ExcMessage("FEM/Navier-Stokes/Mapping degree = '" + md +
+                                     "': allowed values are 'auto' or an integer in [1, 6]."));
+      mapping_degree = v;
+    }
+  }
+} // namespace twinflow::fem
