@@ -10,6 +10,7 @@
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/parameter_handler.h>
 
+#include <algorithm>
 #include <fstream>
 #include <iostream>
 #include <sstream>
@@ -41,7 +42,7 @@ ParaView files, CSV monitors, summary.json and PNG plots.
     std::string m = s.str();
     while (!m.empty() && (m.back() == '\n' || m.back() == ' '))
       m.pop_back();
-    return m;
+    return m.erase(0, std::min(m.find_first_not_of(" \n"), m.size()));
   }
 
   int run(const std::string &file, const std::string &output_override)
@@ -60,7 +61,8 @@ ParaView files, CSV monitors, summary.json and PNG plots.
     }
     catch (const dealii::ExceptionBase &e)
     {
-      throw InputError("in scene file '" + file + "': " + message_of(e));
+      throw InputError("in scene file '" + file + "': " + message_of(e) +
+                       "\n(twinflow --print-parameters lists every subsection and entry with its allowed values)");
     }
     Scene scene = parse_scene(prm, file);
     fem::FemParameters fem_prm;

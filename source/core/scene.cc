@@ -217,7 +217,8 @@ namespace twinflow
       s.domain.upper = parse_point(prm.get("Upper corner"), "Domain/Upper corner", dim);
       for (int d = 0; d < dim; ++d)
         require(s.domain.lower[d] < s.domain.upper[d], "Domain/Upper corner", prm.get("Upper corner"),
-                "every coordinate of the upper corner must exceed the lower corner's");
+                "every coordinate of the upper corner must exceed the lower corner's (Domain/Lower corner = '" +
+                  prm.get("Lower corner") + "')");
     }
     for (const auto &d : Utilities::split_string_list(prm.get("Periodic directions")))
     {

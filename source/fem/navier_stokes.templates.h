@@ -350,18 +350,24 @@ namespace twinflow::fem
   template <int dim>
   unsigned int NavierStokes<dim>::solve_velocity()
   {
+    const bool use_ilu = prm.velocity_preconditioner == "ilu";
     if (step_number % prm.amg_rebuild_interval == 0 || step_number == 0)
     {
-      TrilinosWrappers::PreconditionAMG::AdditionalData amg;
-      amg.elliptic              = false;
-      amg.higher_order_elements = true;
-      amg.smoother_sweeps       = 2;
-      amg.smoother_type         = "symmetric Gauss-Seidel"; // Chebyshev assumes SPD
-      amg.aggregation_threshold = 0.02;
-      std::vector<std::vector<bool>> modes;
-      DoFTools::extract_constant_modes(velocity_dofs, ComponentMask(), modes);
-      amg.constant_modes = modes;
-      velocity_amg.initialize(velocity_matrix, amg);
+      if (use_ilu)
+        velocity_ilu.initialize(velocity_matrix);
+      else
+      {
+        TrilinosWrappers::PreconditionAMG::AdditionalData amg;
+        amg.elliptic              = false;
+        amg.higher_order_elements = true;
+        amg.smoother_sweeps       = 2;
+        amg.smoother_type         = "symmetric Gauss-Seidel"; // Chebyshev assumes SPD
+        amg.aggregation_threshold = 0.02;
+        std::vector<std::vector<bool>> modes;
+        DoFTools::extract_constant_modes(velocity_dofs, ComponentMask(), modes);
+        amg.constant_modes = modes;
+        velocity_amg.initialize(velocity_matrix, amg);
+      }
     }
     TrilinosWrappers::MPI::Vector x(velocity_owned, comm);
     // Start from the previous velocity (a good guess for small steps).
@@ -371,7 +377,10 @@ namespace twinflow::fem
     SolverControl control(5000, target);
     SolverGMRES<TrilinosWrappers::MPI::Vector> gmres(
       control, SolverGMRES<TrilinosWrappers::MPI::Vector>::AdditionalData(100, true));
-    gmres.solve(velocity_matrix, x, velocity_rhs, velocity_amg);
+    if (use_ilu)
+      gmres.solve(velocity_matrix, x, velocity_rhs, velocity_ilu);
+    else
+      gmres.solve(velocity_matrix, x, velocity_rhs, velocity_amg);
     velocity_constraints.distribute(x);
     TrilinosWrappers::MPI::Vector change(velocity_owned, comm);
     change = u_n;

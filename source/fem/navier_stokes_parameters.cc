@@ -19,7 +19,9 @@ namespace twinflow::fem
     prm.declare_entry("Linear solver tolerance", "1e-10", Double(1e-16, 1e-2),
                       "Relative residual reduction of every Krylov solve.");
     prm.declare_entry("AMG rebuild interval", "1", Integer(1, 1000),
-                      "Rebuild the velocity AMG preconditioner every n steps (it is reused in between).");
+                      "Rebuild the velocity preconditioner every n steps (it is reused in between).");
+    prm.declare_entry("Velocity preconditioner", "amg", Selection("amg|ilu"),
+                      "Preconditioner of the velocity GMRES: Trilinos ML AMG (Gauss-Seidel smoothing) or ILU(0).");
   }
 
   void NavierStokesParameters::parse(dealii::ParameterHandler &prm)
@@ -30,6 +32,7 @@ namespace twinflow::fem
     viscous_form         = vf == "symmetric" ? ViscousForm::symmetric : ViscousForm::laplacian;
     linear_tolerance     = prm.get_double("Linear solver tolerance");
     amg_rebuild_interval = prm.get_integer("AMG rebuild interval");
+    velocity_preconditioner = prm.get("Velocity preconditioner");
     const std::string md = prm.get("Mapping degree");
     if (md == "auto")
       mapping_degree = 0; // resolved by the simulation from the geometry

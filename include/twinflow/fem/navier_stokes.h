@@ -26,6 +26,7 @@
 #include <deal.II/fe/mapping_q.h>
 #include <deal.II/lac/affine_constraints.h>
 #include <deal.II/lac/trilinos_precondition.h>
+#include <string>
 #include <deal.II/lac/trilinos_sparse_matrix.h>
 #include <deal.II/lac/trilinos_vector.h>
 #include <deal.II/numerics/data_out.h>
@@ -46,7 +47,8 @@ namespace twinflow::fem
     TimeScheme   scheme           = TimeScheme::bdf2;
     ViscousForm  viscous_form     = ViscousForm::laplacian;
     double       linear_tolerance = 1e-10; ///< relative residual of every Krylov solve
-    unsigned int amg_rebuild_interval = 1; ///< velocity AMG rebuilt every n steps
+    unsigned int amg_rebuild_interval = 1; ///< velocity preconditioner rebuilt every n steps
+    std::string  velocity_preconditioner = "amg"; ///< amg | ilu
 
     static void declare(dealii::ParameterHandler &prm);
     void        parse(dealii::ParameterHandler &prm);
@@ -157,6 +159,7 @@ namespace twinflow::fem
 
     dealii::TrilinosWrappers::SparseMatrix velocity_matrix, pressure_laplace;
     dealii::TrilinosWrappers::PreconditionAMG velocity_amg, pressure_amg;
+    dealii::TrilinosWrappers::PreconditionILU velocity_ilu;
     dealii::TrilinosWrappers::MPI::Vector     velocity_rhs, pressure_rhs;
 
     /// Ghosted state: u^n, u^{n-1}, p^n, φ^n, φ^{n-1}.
