@@ -1,0 +1,115 @@
+// "The scene decides what is simulated": the FEM simulation builds only the modules a scene
+// needs, reports them, and refuses (with a clear input error) what is not available.
+#include <twinflow/core/errors.h>
+#include <twinflow/core/scene.h>
+#include <twinflow/fem/fem_simulation.h>
+
+#include <deal.II/base/parameter_handler.h>
+
+#include <gtest/gtest.h>
+
+using namespace twinflow;
+
+namespace
+{
+  const std::string base = R"(
+set Dimension = 2
+subsection Scene
+  set End time = 0.02
+end
+subsection Domain
+  set Lower corner = 0, 0
+  set Upper corner = 2, 1
+end
+subsection Monitors
+  set Monitors = energy
+end
+subsection FEM
+  set Global refinements = 1
+  set Time step = 0.01
+end
+)";
+
+  std::pair<Scene, fem::FemParameters> load(const std::string &extra)
+  {
+    dealii::ParameterHandler prm;
+    declare_scene_parameters(prm);
+    fem::FemParameters::declare(prm);
+    prm.parse_input_from_string(base + extra);
+    fem::FemParameters f;
+    f.parse(prm);
+    return {parse_scene(prm, "test"), f};
+  }
+
+  bool mentions(const std::vector<std::string> &list, const std::string &word)
+  {
+    for (const auto &s : list)
+      if (s.find(word) != std::string::npos)
+        return true;
+    return false;
+  }
+} // namespace
+
+TEST(Composition, SinglePhaseBuildsOnlyNavierStokes)
+{
+  const auto [scene, prm] = load("");
+  const auto r            = fem::run_fem<2>(scene, prm, "composition_single");
+  ASSERT_EQ(r.active_physics.size(), 1u);
+  EXPECT_TRUE(mentions(r.active_physics, "navier-stokes"));
+  EXPECT_FALSE(mentions(r.active_physics, "level set"));
+  EXPECT_FALSE(mentions(r.active_physics, "immersed"));
+  // Only velocity (Q2, 2 components) and pressure (Q1) DoFs exist: 4 x 2 cells → 9x5 and 5x3 nodes.
+  EXPECT_EQ(r.dofs, 2u * 9 * 5 + 5 * 3);
+  EXPECT_EQ(r.steps, 2u);
+}
+
+TEST(Composition, PeriodicDirectionIsReported)
+{
+  const auto [scene, prm] = load("subsection Domain\n set Periodic directions = x\nend\n");
+  const auto r            = fem::run_fem<2>(scene, prm, "composition_periodic");
+  EXPECT_TRUE(mentions(r.active_physics, "periodic x"));
+  // periodic x: the right column of nodes is identified with the left one, but DoFs are
+  // still distributed on both (constraints tie them): the count is unchanged.
+  EXPECT_EQ(r.dofs, 2u * 9 * 5 + 5 * 3);
+}
+
+TEST(Composition, UnavailableModulesAreRefusedClearly)
+{
+  {
+    const auto [scene, prm] = load("subsection Fluids\n set Number of fluids = 2\nend\n");
+    try
+    {
+      fem::run_fem<2>(scene, prm, "composition_two_phase");
+      FAIL() << "two fluids must be refused by the FEM until the level set exists";
+    }
+    catch (const InputError &e)
+    {
+      EXPECT_NE(std::string(e.what()).find("level set"), std::string::npos) << e.what();
+    }
+  }
+  {
+    const auto [scene, prm] = load("subsection Solids\n set Number of solids = 1\n subsection Solid 1\n"
+                                   "  set Center = 1, 0.5\n  set Radius = 0.1\n end\nend\n");
+    try
+    {
+      fem::run_fem<2>(scene, prm, "composition_solid");
+      FAIL() << "an immersed solid must be refused until the IBM exists";
+    }
+    catch (const InputError &e)
+    {
+      EXPECT_NE(std::string(e.what()).find("immersed"), std::string::npos) << e.what();
+    }
+  }
+}
+
+TEST(Composition, CflControlLimitsTheStep)
+{
+  // Body-force driven periodic channel; with CFL control the step falls below the cap.
+  const auto [scene, prm] = load("subsection Domain\n set Periodic directions = x\nend\n"
+                                 "subsection Forces\n set Body force = 50, 0\nend\n"
+                                 "subsection Scene\n set End time = 0.2\nend\n"
+                                 "subsection FEM\n set Time step = 0.1\n set CFL number = 0.5\nend\n");
+  const auto r = fem::run_fem<2>(scene, prm, "composition_cfl");
+  EXPECT_GT(r.steps, 2u); // 0.2 s at the cap would be 2 steps
+  EXPECT_NEAR(r.final_time, 0.2, 1e-12);
+}
