@@ -18,7 +18,10 @@ namespace twinflow
 
     std::array<double, 3> parse_point(const std::string &text, const std::string &entry, int dim)
     {
-      const auto parts = Utilities::split_string_list(text, ',');
+      auto parts = Utilities::split_string_list(text, ',');
+      // A 2D scene may give a 3D vector whose z component is zero (e.g. the default "0, 0, 0").
+      if (dim == 2 && parts.size() == 3 && (parts[2] == "0" || parts[2] == "0.0"))
+        parts.pop_back();
       require(static_cast<int>(parts.size()) == dim, entry, text,
               "expected " + std::to_string(dim) + " comma-separated numbers (the scene's dimension)");
       std::array<double, 3> p{{0, 0, 0}};
@@ -122,8 +125,8 @@ namespace twinflow
     prm.leave_subsection();
 
     prm.enter_subsection("Forces");
-    prm.declare_entry("Gravity", "0, 0", Patterns::Anything(), "Gravity acceleration vector [m/s^2].");
-    prm.declare_entry("Body force", "0, 0", Patterns::Anything(),
+    prm.declare_entry("Gravity", "0, 0, 0", Patterns::Anything(), "Gravity acceleration vector [m/s^2] (dim components).");
+    prm.declare_entry("Body force", "0, 0, 0", Patterns::Anything(),
                       "Additional body acceleration driving the flow [m/s^2] (e.g. 1, 0 for the periodic cylinder).");
     prm.leave_subsection();
 
@@ -307,6 +310,10 @@ namespace twinflow
     const std::string probes = prm.get("Pressure probes");
     for (const auto &pt : Utilities::split_string_list(probes, ';'))
       s.pressure_probes.push_back(parse_point(pt, "Monitors/Pressure probes", dim));
+    for (const auto &pt : s.pressure_probes)
+      for (int d = 0; d < dim; ++d)
+        require(pt[d] >= s.domain.lower[d] - 1e-12 && pt[d] <= s.domain.upper[d] + 1e-12, "Monitors/Pressure probes",
+                probes, "every probe must lie inside the domain box");
     s.reference_velocity = prm.get_double("Reference velocity");
     s.reference_length   = prm.get_double("Reference length");
     require(s.reference_velocity > 0, "Monitors/Reference velocity", prm.get("Reference velocity"), "must be > 0");
@@ -322,9 +329,18 @@ namespace twinflow
     prm.leave_subsection();
 
     if (s.geometry == "channel with cylinder")
+    {
       require(s.solids.size() == 1 && s.solids[0].motion == SolidMotion::fixed, "Solids/Number of solids",
               std::to_string(s.solids.size()),
               "the body-fitted 'channel with cylinder' geometry holds exactly one fixed solid (the cylinder)");
+      const Solid &c = s.solids[0];
+      require(std::abs(c.center[0] - 0.2) < 1e-12 && std::abs(c.center[1] - 0.2) < 1e-12 &&
+                std::abs(c.radius - 0.05) < 1e-12,
+              "Solids/Solid 1/Center", "", "the 'channel with cylinder' mesh has its cylinder at (0.2, 0.2) "
+              "with Radius 0.05 (DFG benchmark); set those values or use Domain/Geometry = box");
+      require(s.boundary[2] == s.boundary[3], "Domain/top boundary", "",
+              "in the 'channel with cylinder' geometry the top and bottom walls share one boundary: give them the same condition");
+    }
     return s;
   }
 } // namespace twinflow

@@ -91,7 +91,7 @@ namespace twinflow::fem
     // ---- composition: only what the scene calls for -------------------------------------
     if (scene.has_free_surface())
       throw InputError("Fluids/Number of fluids = 2: the FEM two-phase module (conservative level set, "
-                       "Algorithm 1) is not available yet; allowed with FEM now: 1 fluid (or run Methods = sph).");
+                       "Algorithm 1) is not available yet; allowed with FEM now: 1 fluid.");
     const bool fitted = scene.geometry == "channel with cylinder";
     if (scene.has_solids() && !fitted)
       throw InputError("Solids/Number of solids = " + std::to_string(scene.solids.size()) +

@@ -6,6 +6,7 @@
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/distributed/tria.h>
 #include <deal.II/grid/grid_generator.h>
+#include <deal.II/dofs/dof_tools.h>
 #include <deal.II/grid/grid_tools.h>
 #include <deal.II/numerics/vector_tools.h>
 
@@ -65,10 +66,23 @@ namespace twinflow::testing
       tria);
   }
 
-  /// L2 norm of a discrete field given by its DoF vector.
-  template <int dim, typename VectorType>
-  double l2_norm(const Mapping<dim> &mapping, const DoFHandler<dim> &dofs, const VectorType &v)
+  /// Copy of a (possibly ghosted) vector holding the locally owned entries only.
+  template <int dim>
+  TrilinosWrappers::MPI::Vector owned_copy(const DoFHandler<dim> &dofs, const TrilinosWrappers::MPI::Vector &v)
   {
+    TrilinosWrappers::MPI::Vector r(dofs.locally_owned_dofs(), MPI_COMM_WORLD);
+    r = v;
+    return r;
+  }
+
+  /// L2 norm of a discrete field given by its locally owned DoF vector.
+  template <int dim>
+  double l2_norm(const Mapping<dim> &mapping, const DoFHandler<dim> &dofs, const TrilinosWrappers::MPI::Vector &owned)
+  {
+    IndexSet relevant;
+    DoFTools::extract_locally_relevant_dofs(dofs, relevant);
+    TrilinosWrappers::MPI::Vector v(dofs.locally_owned_dofs(), relevant, MPI_COMM_WORLD);
+    v = owned;
     Vector<double> cellwise(dofs.get_triangulation().n_active_cells());
     VectorTools::integrate_difference(mapping, dofs, v,
                                       Functions::ZeroFunction<dim>(dofs.get_fe().n_components()),

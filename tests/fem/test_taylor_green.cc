@@ -85,11 +85,11 @@ namespace
     std::vector<double> du, dp;
     for (unsigned int k = 0; k < 4; ++k)
       run_tgv(4, 1.0, n0 << k, scheme, [&](const NavierStokes<2> &ns, auto &, auto &) {
-        us.push_back(ns.velocity());
-        ps.push_back(ns.pressure());
+        us.push_back(owned_copy(ns.velocity_dof_handler(), ns.velocity()));
+        ps.push_back(owned_copy(ns.pressure_dof_handler(), ns.pressure()));
         if (k > 0)
         {
-          TrilinosWrappers::MPI::Vector a(ns.velocity()), b(ns.pressure());
+          TrilinosWrappers::MPI::Vector a(us.back()), b(ps.back());
           a -= us[k - 1];
           b -= ps[k - 1];
           // pressures are floating: remove the (nodal) mean difference

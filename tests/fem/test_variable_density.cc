@@ -99,8 +99,8 @@ namespace
       for (unsigned int s = 0; s < n; ++s)
         ns.step(dt);
       const auto e = ns.l2_errors(*u, p);
-      us.push_back(ns.velocity());
-      ps.push_back(ns.pressure());
+      us.push_back(owned_copy(ns.velocity_dof_handler(), ns.velocity()));
+      ps.push_back(owned_copy(ns.pressure_dof_handler(), ns.pressure()));
       if (k > 0)
       {
         TrilinosWrappers::MPI::Vector a(us[k]), b(ps[k]);
