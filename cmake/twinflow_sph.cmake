@@ -1,0 +1,34 @@
+# SPH: every file in sph_gpu/src/*.inl is the single kernel source; sph_gpu/cpu/*.cc and
+# sph_gpu/cuda/*.cu only include it. The CPU library (Thrust OpenMP system) is always built;
+# the CUDA library whenever nvcc was found (TWINFLOW_HAVE_CUDA, cmake/twinflow_cuda.cmake).
+find_package(OpenMP REQUIRED COMPONENTS CXX)
+find_path(TWINFLOW_THRUST_INCLUDE_DIR thrust/version.h
+  PATHS /usr/local/cuda/include/cccl /usr/local/cuda/include /usr/include
+  DOC "Thrust headers (CUDA toolkit's CCCL, or Debian's libthrust-dev)")
+if(NOT TWINFLOW_THRUST_INCLUDE_DIR)
+  message(FATAL_ERROR "Thrust headers not found: install the CUDA toolkit or Debian's libthrust-dev, "
+    "or pass -DTWINFLOW_THRUST_INCLUDE_DIR=...")
+endif()
+# CCCL's libcu++ lives beside thrust/ (cuda/std/...).
+set(_sph_includes ${CMAKE_SOURCE_DIR}/sph_gpu/include ${CMAKE_SOURCE_DIR}/include)
+
+file(GLOB TWINFLOW_SPH_CPU_SOURCES CONFIGURE_DEPENDS ${CMAKE_SOURCE_DIR}/sph_gpu/cpu/*.cc)
+add_library(twinflow_sph_cpu STATIC ${TWINFLOW_SPH_CPU_SOURCES})
+target_include_directories(twinflow_sph_cpu PUBLIC ${_sph_includes})
+target_include_directories(twinflow_sph_cpu SYSTEM PUBLIC ${TWINFLOW_THRUST_INCLUDE_DIR})
+target_compile_definitions(twinflow_sph_cpu PUBLIC
+  THRUST_DEVICE_SYSTEM=THRUST_DEVICE_SYSTEM_OMP TWINFLOW_SPH_BACKEND=cpu)
+target_compile_options(twinflow_sph_cpu PRIVATE -Wall -Wextra)
+target_link_libraries(twinflow_sph_cpu PUBLIC OpenMP::OpenMP_CXX)
+set_target_properties(twinflow_sph_cpu PROPERTIES POSITION_INDEPENDENT_CODE ON)
+
+if(TWINFLOW_HAVE_CUDA)
+  file(GLOB TWINFLOW_SPH_CUDA_SOURCES CONFIGURE_DEPENDS ${CMAKE_SOURCE_DIR}/sph_gpu/cuda/*.cu)
+  if(TWINFLOW_SPH_CUDA_SOURCES)
+    add_library(twinflow_sph_cuda STATIC ${TWINFLOW_SPH_CUDA_SOURCES})
+    target_include_directories(twinflow_sph_cuda PUBLIC ${_sph_includes})
+    target_compile_definitions(twinflow_sph_cuda PUBLIC TWINFLOW_SPH_BACKEND=cuda TWINFLOW_WITH_CUDA=1)
+    target_compile_options(twinflow_sph_cuda PRIVATE $<$<COMPILE_LANGUAGE:CUDA>:--extended-lambda>)
+    set_target_properties(twinflow_sph_cuda PROPERTIES CUDA_SEPARABLE_COMPILATION OFF)
+  endif()
+endif()

@@ -1,0 +1,43 @@
+#pragma once
+/**
+ * @file backend.h
+ * One kernel source, two backends. Every file under sph_gpu/src is compiled twice:
+ * as C++ with Thrust's OpenMP device system into libtwinflow_sph_cpu (namespace
+ * twinflow::sph::cpu), and by nvcc with Thrust's CUDA system into libtwinflow_sph_cuda
+ * (namespace twinflow::sph::cuda). Kernels are functors marked TWINFLOW_HD run through
+ * Thrust algorithms with the `exec` policy; nothing here includes deal.II.
+ */
+#include <twinflow/geometry/hd.h>
+#include <twinflow/geometry/vec.h>
+
+#include <thrust/device_vector.h>
+#include <thrust/execution_policy.h>
+
+#ifndef TWINFLOW_SPH_BACKEND
+#  error "TWINFLOW_SPH_BACKEND must be defined to cpu or cuda by the build"
+#endif
+
+namespace twinflow::sph
+{
+  namespace TWINFLOW_SPH_BACKEND
+  {
+    /// Device array (host memory with the OpenMP system, GPU memory with CUDA).
+    template <typename T>
+    using dvec = thrust::device_vector<T>;
+
+    /// Execution policy of the backend.
+    inline constexpr auto &exec = thrust::device;
+
+    template <int dim>
+    using Vec = geometry::Vec<dim>;
+
+    /// Raw pointer of a device array, for use inside functors.
+    template <typename T>
+    T *ptr(dvec<T> &v) { return thrust::raw_pointer_cast(v.data()); }
+    template <typename T>
+    const T *ptr(const dvec<T> &v) { return thrust::raw_pointer_cast(v.data()); }
+
+    /// Name of this backend ("cpu" or "cuda").
+    const char *backend_name();
+  } // namespace TWINFLOW_SPH_BACKEND
+} // namespace twinflow::sph

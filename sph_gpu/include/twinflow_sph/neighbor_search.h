@@ -1,0 +1,42 @@
+#pragma once
+/**
+ * @file neighbor_search.h
+ * Uniform cell grid of size κh, particles sorted by cell with Thrust (sort_by_key,
+ * vectorised lower/upper bound), neighbour lists in CSR form.
+ */
+#include <twinflow_sph/backend.h>
+#include <twinflow_sph/domain.h>
+
+#include <cstddef>
+
+namespace twinflow::sph
+{
+  namespace TWINFLOW_SPH_BACKEND
+  {
+    /// Neighbours of each particle in CSR form: the neighbours of i (i itself included)
+    /// are indices[offsets[i] .. offsets[i+1]), ascending. offsets has n + 1 entries.
+    struct NeighborList
+    {
+      dvec<int> offsets;
+      dvec<int> indices;
+      int       n = 0;
+      std::size_t n_entries() const { return indices.size(); }
+    };
+
+    /// Builds neighbour lists of all pairs closer than @p radius (minimum image in the
+    /// box's periodic directions). In non-periodic directions the grid covers the
+    /// particles' bounding box (wall markers may lie outside the box).
+    template <int dim>
+    class NeighborSearch
+    {
+    public:
+      NeighborSearch(const DomainBox<dim> &box, double radius);
+      void build(const dvec<Vec<dim>> &positions, NeighborList &list);
+
+    private:
+      DomainBox<dim> box;
+      double         radius;
+      dvec<int>      cell_of, sorted_index, cell_start, cell_end, counts;
+    };
+  } // namespace TWINFLOW_SPH_BACKEND
+} // namespace twinflow::sph

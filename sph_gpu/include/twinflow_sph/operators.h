@@ -1,0 +1,54 @@
+#pragma once
+/**
+ * @file operators.h
+ * SPH discretisation operators as matrices sharing the neighbour-list pattern:
+ * volumes V_i = 1/Σ_j W_ij, the correction tensors G (Eq. 24) and L (Eq. 25–26), and the
+ * gradient A^G (Eq. 19 / 22, 36–39) and Laplacian A^L (Eq. 20 / 23, 27–29) matrices.
+ */
+#include <twinflow_sph/backend.h>
+#include <twinflow_sph/domain.h>
+#include <twinflow_sph/kernel.h>
+#include <twinflow_sph/neighbor_search.h>
+
+namespace twinflow::sph
+{
+  enum class OperatorKind { standard, consistent };
+
+  /// Small dense dim × dim matrix usable on host and device.
+  template <int dim>
+  struct Tensor2
+  {
+    double a[dim][dim];
+  };
+
+  namespace TWINFLOW_SPH_BACKEND
+  {
+    /// Values of A^G (one array per direction) and A^L, aligned with NeighborList::indices:
+    /// (A f)_i = Σ_{k in offsets[i]..offsets[i+1]} value[k] f[indices[k]] (diagonal included).
+    template <int dim>
+    struct OperatorMatrices
+    {
+      dvec<double> gradient[dim];
+      dvec<double> laplacian;
+    };
+
+    /// V_i = 1 / Σ_j W_ij (Eq. 17).
+    template <int dim>
+    void compute_volumes(const dvec<Vec<dim>> &x, const NeighborList &nl, const DomainBox<dim> &box,
+                         const CubicSpline<dim> &W, dvec<double> &V);
+
+    /// G_i = (−Σ_j r_ij ⊗ ∇_i W_ij V_j)^{-1} (Eq. 24) and L_i from Eq. 25–26; where the
+    /// support is too deficient to invert (isolated particles), the identity is used and
+    /// the particle counts in the returned number of fallbacks.
+    template <int dim>
+    int compute_corrections(const dvec<Vec<dim>> &x, const dvec<double> &V, const NeighborList &nl,
+                            const DomainBox<dim> &box, const CubicSpline<dim> &W, dvec<Tensor2<dim>> &G,
+                            dvec<Tensor2<dim>> &L);
+
+    /// Assembles A^G and A^L, standard (Eq. 19–20) or consistent (Eq. 22–23, using G, L).
+    template <int dim>
+    void assemble_operators(const dvec<Vec<dim>> &x, const dvec<double> &V, const NeighborList &nl,
+                            const DomainBox<dim> &box, const CubicSpline<dim> &W, OperatorKind kind,
+                            const dvec<Tensor2<dim>> &G, const dvec<Tensor2<dim>> &L, OperatorMatrices<dim> &A);
+  } // namespace TWINFLOW_SPH_BACKEND
+} // namespace twinflow::sph
