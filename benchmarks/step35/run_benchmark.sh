@@ -19,7 +19,8 @@
 #      $WORK/results.json).
 #
 # Time scaling: step-35's mesh is the DFG geometry scaled by 10 (D = 1, U_mean = 1,
-# nu = 1/Re; its channel is 25 long instead of 22). Its time unit D/U_mean is 10x ours, so step-35's dt = 5e-3 is our dt = 5e-4 (same CFL number on the same mesh).
+# nu = 1/Re; its channel is 25 long instead of 22). Its time unit D/U_mean is 10x ours,
+# so step-35's dt = 5e-3 is our dt = 5e-4 (the same CFL number).
 #
 # Equal DoFs: our coarse mesh (GridGenerator::channel_with_cylinder, 108 cells) and
 # step-35's (nsbench2.inp, 60 cells) differ, so no refinement level gives exactly the
