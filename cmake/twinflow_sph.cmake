@@ -18,7 +18,10 @@ target_include_directories(twinflow_sph_cpu PUBLIC ${_sph_includes})
 target_include_directories(twinflow_sph_cpu SYSTEM PUBLIC ${TWINFLOW_THRUST_INCLUDE_DIR})
 target_compile_definitions(twinflow_sph_cpu PUBLIC
   THRUST_DEVICE_SYSTEM=THRUST_DEVICE_SYSTEM_OMP TWINFLOW_SPH_BACKEND=cpu)
-target_compile_options(twinflow_sph_cpu PRIVATE -Wall -Wextra)
+# deal.II empties CMAKE_CXX_FLAGS_RELEASE (it passes its own flags to its targets): the
+# SPH libraries, which are not deal.II targets, set their optimisation themselves.
+set(TWINFLOW_SPH_OPT $<$<NOT:$<CONFIG:Debug>>:-O3 -DNDEBUG>)
+target_compile_options(twinflow_sph_cpu PRIVATE -Wall -Wextra ${TWINFLOW_SPH_OPT})
 target_link_libraries(twinflow_sph_cpu PUBLIC OpenMP::OpenMP_CXX)
 set_target_properties(twinflow_sph_cpu PROPERTIES POSITION_INDEPENDENT_CODE ON)
 
@@ -28,7 +31,16 @@ if(TWINFLOW_HAVE_CUDA)
     add_library(twinflow_sph_cuda STATIC ${TWINFLOW_SPH_CUDA_SOURCES})
     target_include_directories(twinflow_sph_cuda PUBLIC ${_sph_includes})
     target_compile_definitions(twinflow_sph_cuda PUBLIC TWINFLOW_SPH_BACKEND=cuda TWINFLOW_WITH_CUDA=1)
-    target_compile_options(twinflow_sph_cuda PRIVATE $<$<COMPILE_LANGUAGE:CUDA>:--extended-lambda>)
+    target_compile_options(twinflow_sph_cuda PRIVATE $<$<COMPILE_LANGUAGE:CUDA>:--extended-lambda> ${TWINFLOW_SPH_OPT})
     set_target_properties(twinflow_sph_cuda PROPERTIES CUDA_SEPARABLE_COMPILATION OFF)
   endif()
+endif()
+
+# The host side (source/sph, part of twinflow_lib) drives the backends through engine.h.
+target_link_libraries(twinflow_lib twinflow_sph_cpu)
+if(TARGET twinflow_sph_cuda)
+  find_package(CUDAToolkit REQUIRED)
+  target_link_libraries(twinflow_lib twinflow_sph_cuda CUDA::cudart)
+  set_source_files_properties(${CMAKE_SOURCE_DIR}/source/sph/engine_factory.cc PROPERTIES
+    COMPILE_DEFINITIONS TWINFLOW_WITH_CUDA=1)
 endif()

@@ -5,6 +5,7 @@
 #include <twinflow/io/csv_monitor.h>
 #include <twinflow/io/mpi_utils.h>
 #include <twinflow/io/plots.h>
+#include <twinflow/sph/sph_simulation.h>
 
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/mpi.h>
@@ -32,6 +33,7 @@ ParaView files, CSV monitors, summary.json and PNG plots.
   {
     twinflow::declare_scene_parameters(prm);
     twinflow::fem::FemParameters::declare(prm);
+    twinflow::sph::SphParameters::declare(prm);
   }
 
   /// deal.II's message of an exception without the stack trace.
@@ -69,17 +71,30 @@ ParaView files, CSV monitors, summary.json and PNG plots.
     fem_prm.parse(prm);
     if (!output_override.empty())
       scene.output_directory = output_override;
-    if (scene.wants(Method::sph))
-      throw InputError("Scene/Methods contains 'sph': the SPH companion is not part of this build yet; allowed: fem");
+    sph::SphParameters sph_prm;
+    sph_prm.parse(prm);
 
     const bool root = io::is_root_process(MPI_COMM_WORLD);
     if (root)
       std::cout << "twinflow: scene '" << scene.name << "' (" << scene.dimension << "D) from " << file << std::endl;
     const std::string dir = scene.output_directory + "/fem";
+    if (scene.wants(Method::sph))
+    {
+      const std::string sph_dir = scene.output_directory + "/sph";
+      sph::run_sph_scene(scene, sph_prm, sph_dir);
+      if (!scene.wants(Method::fem))
+      {
+        io::make_plots(sph_dir);
+        return 0;
+      }
+    }
     if (fem_prm.study_levels.empty())
     {
       fem::run_fem_scene(scene, fem_prm, dir);
-      io::make_plots(dir);
+      if (scene.wants(Method::sph))
+        io::make_monitor_plots({dir, scene.output_directory + "/sph"});
+      else
+        io::make_plots(dir);
       return 0;
     }
     // Refinement study: each level in its own folder, one table of cost and accuracy.

@@ -5,22 +5,10 @@
  * vectors: one source for both backends (no library serves CPU and CUDA alike).
  */
 #include <twinflow_sph/backend.h>
+#include <twinflow_sph/solver_settings.h>
 
 namespace twinflow::sph
 {
-  struct SolverSettings
-  {
-    int    max_iterations = 1000;
-    double tolerance      = 1e-8;   ///< on ||b − A x|| / ||b||
-  };
-
-  struct SolverResult
-  {
-    int    iterations = 0;
-    double residual   = 0;          ///< final relative residual
-    bool   converged  = false;
-  };
-
   namespace TWINFLOW_SPH_BACKEND
   {
     /// y = A x for A in CSR form (offsets n+1, column indices, values).

@@ -1,0 +1,152 @@
+#include "particle_setup.h"
+
+#include <twinflow/core/errors.h>
+#include <twinflow/geometry/geometry.h>
+
+#include <cmath>
+
+namespace twinflow::sph
+{
+  template <int dim>
+  DomainBox<dim> domain_box(const Scene &scene)
+  {
+    DomainBox<dim> box;
+    for (int d = 0; d < dim; ++d)
+    {
+      box.lower[d]    = scene.domain.lower[d];
+      box.upper[d]    = scene.domain.upper[d];
+      box.periodic[d] = scene.periodic[d];
+    }
+    return box;
+  }
+
+  namespace
+  {
+    /// Signed distance to the scene's solids (min over them), +∞ if none.
+    template <int dim>
+    double solid_distance(const Scene &scene, const geometry::Vec<dim> &x, geometry::Vec<dim> &normal)
+    {
+      double best = 1e300;
+      for (const auto &s : scene.solids)
+      {
+        geometry::Vec<dim> c;
+        for (int d = 0; d < dim; ++d)
+          c[d] = s.center[d];
+        double             phi = 1e300;
+        geometry::Vec<dim> n   = geometry::Vec<dim>::zero();
+        if constexpr (dim == 2)
+        {
+          if (s.shape == "disk")
+          {
+            const geometry::Ball<2> b(c, s.radius);
+            phi = b.signed_distance(x);
+            n   = b.normal(x);
+          }
+          else
+          {
+            const geometry::Plate<2> p(c, s.length, s.thickness, s.angle);
+            phi = p.signed_distance(x);
+            n   = p.normal(x);
+          }
+        }
+        else
+          throw InputError("Solids/Solid/Shape = " + s.shape + ": 3D solids are not available in SPH yet; allowed: 2D disk, box, plate");
+        if (phi < best)
+        {
+          best   = phi;
+          normal = n;
+        }
+      }
+      return best;
+    }
+  } // namespace
+
+  template <int dim>
+  std::size_t make_particles(const Scene &scene, const double dx, const int layers, const double rho0,
+                             HostParticles<dim> &P)
+  {
+    P = HostParticles<dim>();
+    for (int f = 0; f < 2 * dim; ++f)
+      if (scene.boundary[f] == BoundaryKind::inflow || scene.boundary[f] == BoundaryKind::outflow)
+        throw InputError("Domain boundaries: inflow/outflow faces are not available in SPH yet; allowed: no slip, periodic");
+    int                 n[3] = {1, 1, 1}, lo[3] = {0, 0, 0}, hi[3] = {1, 1, 1};
+    geometry::Vec<dim>  box_lo, box_hi;
+    for (int d = 0; d < dim; ++d)
+    {
+      const double L = scene.domain.upper[d] - scene.domain.lower[d];
+      n[d]           = static_cast<int>(std::lround(L / dx));
+      if (std::abs(n[d] * dx - L) > 1e-6 * L)
+        throw InputError("SPH/Particle spacing = " + std::to_string(dx) + ": the domain length " + std::to_string(L) +
+                         " in direction " + "xyz"[d] + " must be a whole multiple of the spacing");
+      lo[d] = scene.periodic[d] ? 0 : -layers;
+      hi[d] = scene.periodic[d] ? n[d] : n[d] + layers;
+      box_lo[d] = scene.domain.lower[d];
+      box_hi[d] = scene.domain.upper[d];
+    }
+    const geometry::Box<dim> box(box_lo, box_hi);
+    // Top of the fluid column: hydrostatic initial pressure below it.
+    const int    up    = dim - 1;
+    const double g     = -scene.gravity[up];
+    const double y_top = scene.fluid_region ? scene.fluid_region->upper[up] : scene.domain.upper[up];
+    std::size_t  n_fluid = 0;
+    int          i[3]    = {0, 0, 0};
+    for (i[2] = dim == 3 ? lo[2] : 0; i[2] < (dim == 3 ? hi[2] : 1); ++i[2])
+      for (i[1] = lo[1]; i[1] < hi[1]; ++i[1])
+        for (i[0] = lo[0]; i[0] < hi[0]; ++i[0])
+        {
+          geometry::Vec<dim> x;
+          bool               inside = true;
+          for (int d = 0; d < dim; ++d)
+          {
+            x[d] = scene.domain.lower[d] + (i[d] + 0.5) * dx;
+            inside = inside && i[d] >= 0 && i[d] < n[d];
+          }
+          geometry::Vec<dim> n_solid;
+          const double       phi_s = solid_distance<dim>(scene, x, n_solid);
+          int                kind  = -1;
+          geometry::Vec<dim> normal = geometry::Vec<dim>::zero();
+          if (!inside)
+          {
+            kind   = ParticleKind::wall;
+            normal = -box.normal(x); // into the fluid
+          }
+          else if (phi_s < 0)
+          {
+            if (phi_s > -layers * dx)
+            {
+              kind   = ParticleKind::solid;
+              normal = n_solid;
+            }
+          }
+          else
+          {
+            bool in_region = true;
+            if (scene.fluid_region)
+              for (int d = 0; d < dim; ++d)
+                in_region = in_region && x[d] > scene.fluid_region->lower[d] && x[d] < scene.fluid_region->upper[d];
+            if (in_region)
+              kind = ParticleKind::fluid;
+          }
+          if (kind < 0)
+            continue;
+          P.x.push_back(x);
+          P.u.push_back(geometry::Vec<dim>::zero());
+          P.p.push_back(kind == ParticleKind::fluid ? rho0 * g * std::max(0.0, y_top - x[up]) : 0.0);
+          P.rho.push_back(rho0);
+          P.kind.push_back(kind);
+          P.wall_velocity.push_back(geometry::Vec<dim>::zero());
+          P.wall_acceleration.push_back(geometry::Vec<dim>::zero());
+          P.normal.push_back(normal);
+          n_fluid += kind == ParticleKind::fluid;
+        }
+    if (n_fluid == 0)
+      throw InputError("Fluids/Initial region of fluid 1: no SPH particle falls inside it at spacing " +
+                       std::to_string(dx) + "; enlarge the region or reduce SPH/Particle spacing");
+    return n_fluid;
+  }
+
+  template DomainBox<2> domain_box<2>(const Scene &);
+  template DomainBox<3> domain_box<3>(const Scene &);
+  template std::size_t make_particles<2>(const Scene &, double, int, double, HostParticles<2> &);
+  template std::size_t make_particles<3>(const Scene &, double, int, double, HostParticles<3> &);
+} // namespace twinflow::sph

@@ -1,0 +1,60 @@
+#include <twinflow/core/errors.h>
+#include <twinflow/sph/sph_simulation.h>
+#include <twinflow_sph/engine.h>
+
+#include <algorithm>
+
+namespace twinflow::sph
+{
+  bool StepReport::converged() const
+  {
+    return pressure.converged && velocity[0].converged && velocity[1].converged && velocity[2].converged;
+  }
+
+  void SphParameters::declare(dealii::ParameterHandler &prm)
+  {
+    using namespace dealii;
+    prm.enter_subsection("SPH");
+    prm.declare_entry("Backend", "cpu", Patterns::Selection("cpu|cuda"),
+                      "Where the SPH kernels run: cpu (Thrust OpenMP) or cuda (needs a build with nvcc and a GPU).");
+    prm.declare_entry("Particle spacing", "0.02", Patterns::Double(0), "Initial inter-particle distance [m], > 0.");
+    prm.declare_entry("Smoothing length ratio", "1.2", Patterns::Double(0.5, 3), "h / spacing (kernel support 2h).");
+    prm.declare_entry("Operators", "consistent", Patterns::Selection("consistent|standard"),
+                      "Discrete gradient/Laplacian: consistent (Eq. 22-26) or standard (Eq. 19-20).");
+    prm.declare_entry("Alpha", "0.5", Patterns::Double(0, 1),
+                      "Weight of the density-invariance source in the pressure equation (Eq. 55/57).");
+    prm.declare_entry("Wall pressure condition", "bce", Patterns::Selection("bce|neumann"),
+                      "BCE markers' pressure rows: force balance (Eq. 64-65) or zero normal gradient (Eq. 66-67).");
+    prm.declare_entry("Free-surface density ratio", "0.95", Patterns::Double(0, 1),
+                      "Fluid particles with summation density below ratio * rho0 are free-surface particles (p = 0).");
+    prm.declare_entry("Time step", "1e-3", Patterns::Double(0), "Maximum time step [s], > 0.");
+    prm.declare_entry("CFL number", "0.2", Patterns::Double(0),
+                      "dt <= CFL h / max(|u|_max, Monitors/Reference velocity); 0: fixed step.");
+    prm.declare_entry("Solver tolerance", "1e-8", Patterns::Double(0, 1), "Relative residual of the BiCGStab solves.");
+    prm.declare_entry("Max iterations", "2000", Patterns::Integer(1), "Iteration cap of the BiCGStab solves.");
+    prm.leave_subsection();
+  }
+
+  void SphParameters::parse(dealii::ParameterHandler &prm)
+  {
+    prm.enter_subsection("SPH");
+    backend   = prm.get("Backend");
+    spacing   = prm.get_double("Particle spacing");
+    require(spacing > 0, "SPH/Particle spacing", prm.get("Particle spacing"), "the spacing must be > 0");
+    h_over_dx = prm.get_double("Smoothing length ratio");
+    consistent    = prm.get("Operators") == "consistent";
+    alpha         = prm.get_double("Alpha");
+    neumann_walls = prm.get("Wall pressure condition") == "neumann";
+    free_surface_ratio = prm.get_double("Free-surface density ratio");
+    time_step = prm.get_double("Time step");
+    require(time_step > 0, "SPH/Time step", prm.get("Time step"), "the time step must be > 0");
+    cfl              = prm.get_double("CFL number");
+    solver_tolerance = prm.get_double("Solver tolerance");
+    max_iterations   = prm.get_integer("Max iterations");
+    prm.leave_subsection();
+    const auto b = available_backends();
+    if (std::find(b.begin(), b.end(), backend) == b.end())
+      throw InputError("invalid value for 'SPH/Backend' = '" + backend +
+                       "': this build has no CUDA backend (nvcc was not found when it was configured); allowed: cpu");
+  }
+} // namespace twinflow::sph

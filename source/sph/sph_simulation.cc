@@ -1,0 +1,205 @@
+#include "particle_setup.h"
+
+#include <twinflow/core/errors.h>
+#include <twinflow/io/csv_monitor.h>
+#include <twinflow/io/mpi_utils.h>
+#include <twinflow/io/particle_output.h>
+#include <twinflow/io/progress.h>
+#include <twinflow/io/pvd_series.h>
+#include <twinflow/io/summary.h>
+#include <twinflow/sph/sph_simulation.h>
+
+#include <deal.II/base/mpi.h>
+#include <deal.II/base/timer.h>
+
+#include <cmath>
+#include <iostream>
+#include <sstream>
+
+namespace twinflow::sph
+{
+  namespace
+  {
+    template <int dim>
+    SphRunResult run(const Scene &scene, const SphParameters &prm, const std::string &dir)
+    {
+      dealii::Timer wall;
+      SphRunResult  result;
+      if (scene.has_solids())
+        for (const auto &s : scene.solids)
+          if (s.motion != SolidMotion::fixed)
+            throw InputError("Solids/" + s.name + "/Motion: moving solids are not available in SPH yet; allowed: fixed");
+      const Fluid &fluid = scene.fluids.front();
+      const double h     = prm.h_over_dx * prm.spacing;
+      const int    layers = static_cast<int>(std::ceil(2.0 * h / prm.spacing - 1e-9));
+
+      HostParticles<dim> P;
+      result.fluid_particles = make_particles<dim>(scene, prm.spacing, layers, fluid.density, P);
+      result.markers         = P.size() - result.fluid_particles;
+
+      EngineSettings s;
+      s.spacing    = prm.spacing;
+      s.h          = h;
+      s.rho0       = fluid.density;
+      s.mu         = fluid.viscosity;
+      s.consistent = prm.consistent;
+      s.alpha      = prm.alpha;
+      s.pressure_wall      = prm.neumann_walls ? PressureWall::neumann : PressureWall::bce;
+      s.free_surface_ratio = prm.free_surface_ratio;
+      s.free_surface       = scene.fluid_region.has_value();
+      for (int d = 0; d < dim; ++d)
+      {
+        s.acceleration[d] = scene.gravity[d] + scene.body_force[d];
+        s.gravity[d]      = scene.gravity[d];
+      }
+      s.velocity_solver = {prm.max_iterations, prm.solver_tolerance};
+      s.pressure_solver = {prm.max_iterations, prm.solver_tolerance};
+      auto engine = make_engine<dim>(prm.backend, domain_box<dim>(scene), s);
+      engine->set_particles(P);
+
+      result.active_physics.push_back("implicit SPH (Algorithm 2, " + std::string(prm.consistent ? "consistent" : "standard") +
+                                      " operators, " + engine->backend() + " backend)");
+      result.active_physics.push_back(std::to_string(layers) + " BCE layers (" +
+                                      (prm.neumann_walls ? "Neumann pressure rows" : "force-balance pressure rows") + ")");
+      if (s.free_surface)
+        result.active_physics.push_back("free surface (p = 0 below " + std::to_string(prm.free_surface_ratio) + " rho0)");
+      std::cout << "SPH active physics: ";
+      for (std::size_t k = 0; k < result.active_physics.size(); ++k)
+        std::cout << (k ? "; " : "") << result.active_physics[k];
+      std::cout << "\nSPH particles: " << result.fluid_particles << " fluid + " << result.markers
+                << " BCE markers, spacing " << prm.spacing << " m, h = " << h << " m" << std::endl;
+
+      io::ensure_directory(dir);
+      MPI_Comm self = MPI_COMM_SELF;
+      io::CsvMonitor energy(dir + "/energy.csv", {"time", "kinetic energy", "potential energy", "total energy"},
+                            {"s", "J", "J", "J"}, self, "energy");
+      io::CsvMonitor front(dir + "/front.csv", {"time", "x_front", "max speed"}, {"s", "m", "m/s"}, self, "front");
+      io::CsvMonitor solver(dir + "/solver.csv",
+                            {"time", "dt", "velocity iterations", "pressure iterations", "pressure residual", "free-surface particles"},
+                            {"s", "s", "-", "-", "-", "-"}, self, "solver");
+      io::PvdSeries pvd(dir, "particles", self);
+      unsigned int  output_count = 0;
+      double        m0 = fluid.density;
+      for (int d = 0; d < dim; ++d)
+        m0 *= prm.spacing;
+
+      auto monitors = [&](double t, double dt, const StepReport *r) {
+        engine->get_particles(P);
+        double ek = 0, ep = 0, xf = -1e300;
+        for (std::size_t i = 0; i < P.size(); ++i)
+          if (P.kind[i] == ParticleKind::fluid)
+          {
+            double u2 = 0, gx = 0;
+            for (int d = 0; d < dim; ++d)
+            {
+              u2 += P.u[i][d] * P.u[i][d];
+              gx += scene.gravity[d] * P.x[i][d];
+            }
+            ek += 0.5 * m0 * u2;
+            ep -= m0 * gx;
+            xf = std::max(xf, P.x[i][0] + 0.5 * prm.spacing);
+          }
+        energy.append({t, ek, ep, ek + ep});
+        front.append({t, xf, engine->max_fluid_speed()});
+        if (r)
+          solver.append({t, dt, double(r->velocity[0].iterations), double(r->pressure.iterations), r->pressure.residual,
+                         double(r->free_surface_particles)});
+        result.monitors["kinetic energy"] = ek;
+        result.monitors["total energy"]   = ek + ep;
+        result.monitors["x_front"]        = xf;
+      };
+      auto write = [&](double t) {
+        io::ParticleOutput<dim> out;
+        std::vector<double> xs, us;
+        for (std::size_t i = 0; i < P.size(); ++i)
+          for (int d = 0; d < dim; ++d)
+          {
+            xs.push_back(P.x[i][d]);
+            us.push_back(P.u[i][d]);
+          }
+        out.set_positions_flat(xs);
+        out.add_vector_flat("velocity", us);
+        out.add_scalar("pressure", P.p);
+        out.add_scalar("density", P.rho);
+        out.add_scalar("kind", P.kind);
+        out.set_time(t, output_count);
+        const std::string name = "particles_" + std::to_string(output_count++) + ".vtu";
+        out.write_vtu(dir + "/" + name);
+        pvd.add(t, name);
+      };
+
+      monitors(0, 0, nullptr);
+      write(0);
+      io::ProgressReporter progress(0.0, scene.end_time, std::cout, self, 2.0);
+      double t = 0, next_output = scene.output_interval, t_output = 0;
+      const double u_ref = scene.reference_velocity;
+      while (t < scene.end_time * (1 - 1e-12))
+      {
+        double dt = prm.time_step;
+        if (prm.cfl > 0)
+          dt = std::min(dt, prm.cfl * h / std::max(engine->max_fluid_speed(), u_ref));
+        dt = std::min(dt, scene.end_time - t);
+        const StepReport &r = engine->step(dt);
+        t += dt;
+        ++result.steps;
+        result.timings["neighbour search"] += r.t_neighbors;
+        result.timings["assembly"] += r.t_assembly;
+        result.timings["velocity solve"] += r.t_velocity;
+        result.timings["pressure solve"] += r.t_pressure;
+        result.timings["correction and update"] += r.t_update;
+        if (!std::isfinite(r.max_speed) || !std::isfinite(r.pressure.residual))
+          throw std::runtime_error("SPH solution diverged at t = " + std::to_string(t) + " (step " +
+                                   std::to_string(result.steps) + "): reduce SPH/Time step or CFL number. Monitors so far are in " + dir);
+        dealii::Timer out_timer;
+        monitors(t, dt, &r);
+        if (scene.output_interval > 0 && t >= next_output * (1 - 1e-9))
+        {
+          write(t);
+          next_output += scene.output_interval;
+        }
+        t_output += out_timer.wall_time();
+        std::ostringstream extra;
+        extra << "dt " << dt << "  its " << r.velocity[0].iterations << "/" << r.pressure.iterations << "  |u|max "
+              << r.max_speed << "  surface " << r.free_surface_particles;
+        progress.update(t, result.steps, extra.str());
+      }
+      progress.finish();
+      if (scene.output_interval == 0)
+        write(t);
+      result.timings["monitors and output"] = t_output;
+      result.wall_time  = wall.wall_time();
+      result.final_time = t;
+
+      io::RunSummary summary(self);
+      summary.set_method("sph");
+      summary.set_dimension(dim);
+      summary.set_scene(scene.name);
+      summary.set_particles(P.size());
+      summary.set_steps(result.steps);
+      summary.set_final_time(t);
+      summary.set_wall_time(result.wall_time);
+      for (const auto &[k, v] : result.timings)
+        summary.set_timer_section(k, v, result.steps);
+      summary.set_monitor_values(result.monitors);
+      summary.set_extra("fluid particles", result.fluid_particles);
+      summary.set_extra("BCE markers", result.markers);
+      summary.set_extra("backend", std::string(engine->backend()));
+      summary.set_extra("neighbour entries per particle", double(engine->n_neighbor_entries()) / P.size());
+      summary.set_extra("memory per particle [B]", engine->bytes_per_particle());
+      summary.set_extra("particle-steps per second", double(P.size()) * result.steps / result.wall_time);
+      summary.write_json(dir + "/summary.json");
+      summary.print_table(std::cout);
+      return result;
+    }
+  } // namespace
+
+  SphRunResult run_sph_scene(const Scene &scene, const SphParameters &prm, const std::string &dir)
+  {
+    // SPH neglects the second (air) phase of a two-fluid scene: fluid 1 is simulated.
+    SphRunResult r;
+    if (dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0)
+      r = scene.dimension == 2 ? run<2>(scene, prm, dir) : run<3>(scene, prm, dir);
+    MPI_Barrier(MPI_COMM_WORLD);
+    return r;
+  }
+} // namespace twinflow::sph

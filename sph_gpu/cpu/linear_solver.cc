@@ -1,0 +1,1 @@
+#include "../src/linear_solver.inl"

@@ -1,0 +1,1 @@
+#include "../src/neighbor_search.inl"

@@ -1,0 +1,84 @@
+#pragma once
+/**
+ * @file engine.h
+ * Backend-neutral interface of the implicit SPH solver (Algorithm 2). No Thrust here:
+ * the host side (source/sph) talks to either backend through plain std::vectors.
+ */
+#include <twinflow/geometry/vec.h>
+#include <twinflow_sph/domain.h>
+#include <twinflow_sph/solver_settings.h>
+
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace twinflow::sph
+{
+
+  /// Marker kinds.
+  enum ParticleKind : int { fluid = 0, wall = 1, solid = 2 };
+
+  enum class PressureWall { bce, neumann }; ///< Eq. 64–65 or Eq. 66–67
+
+  struct EngineSettings
+  {
+    double             spacing   = 0.01;  ///< initial inter-particle distance Δx
+    double             h         = 0.012; ///< smoothing length (support 2h)
+    double             rho0      = 1000;  ///< rest density
+    double             mu        = 1e-3;  ///< dynamic viscosity
+    bool               consistent = true; ///< consistent (Eq. 22–23) or standard (Eq. 19–20) operators
+    double             alpha      = 0.5;  ///< blend of Eq. 55/57: density-invariance weight
+    PressureWall       pressure_wall = PressureWall::bce;
+    double             free_surface_ratio = 0.95; ///< fluid with ρ_i < ratio ρ0 gets p = 0
+    bool               free_surface = true;       ///< false: no p = 0 particles (confined flow)
+    std::array<double, 3> acceleration{{0, 0, 0}}; ///< gravity + body force
+    std::array<double, 3> gravity{{0, 0, 0}};      ///< g of Eq. 61/64
+    SolverSettings     velocity_solver, pressure_solver;
+  };
+
+  /// Particles in host memory (structure of arrays).
+  template <int dim>
+  struct HostParticles
+  {
+    std::vector<geometry::Vec<dim>> x, u;
+    std::vector<double>             p, rho;
+    std::vector<int>                kind;
+    std::vector<geometry::Vec<dim>> wall_velocity, wall_acceleration, normal; ///< BCE: u^p, a^p, n
+    std::size_t size() const { return x.size(); }
+  };
+
+  /// What one step did (iterations, convergence, timings in seconds).
+  struct StepReport
+  {
+    SolverResult velocity[3], pressure;
+    int          free_surface_particles = 0;
+    int          correction_fallbacks   = 0;
+    double       max_speed              = 0;
+    double       t_neighbors = 0, t_assembly = 0, t_velocity = 0, t_pressure = 0, t_update = 0;
+    bool         converged() const;
+  };
+
+  template <int dim>
+  class Engine
+  {
+  public:
+    virtual ~Engine()                                         = default;
+    virtual void              set_particles(const HostParticles<dim> &p) = 0;
+    virtual void              get_particles(HostParticles<dim> &p) const = 0;
+    virtual const StepReport &step(double dt)                 = 0;
+    virtual double            max_fluid_speed() const         = 0;
+    virtual std::size_t       n_neighbor_entries() const      = 0;
+    virtual std::size_t       bytes_per_particle() const      = 0;
+    virtual const char       *backend() const                 = 0;
+  };
+
+  /// Creates the engine of backend "cpu" or "cuda"; throws std::invalid_argument with
+  /// a clear message if the backend is not part of this build.
+  template <int dim>
+  std::unique_ptr<Engine<dim>> make_engine(const std::string &backend, const DomainBox<dim> &box,
+                                           const EngineSettings &settings);
+
+  /// Backends compiled into this build ("cpu", and "cuda" when nvcc was found).
+  std::vector<std::string> available_backends();
+} // namespace twinflow::sph

@@ -1,0 +1,241 @@
+// Implicit SPH engine (Algorithm 2) — the single source of both backends.
+#include <twinflow_sph/engine.h>
+#include <twinflow_sph/linear_solver.h>
+#include <twinflow_sph/neighbor_search.h>
+#include <twinflow_sph/operators.h>
+
+#include "engine_functors.inl"
+
+#include <thrust/copy.h>
+#include <thrust/count.h>
+#include <thrust/fill.h>
+#include <thrust/for_each.h>
+#include <thrust/iterator/counting_iterator.h>
+#include <thrust/iterator/transform_iterator.h>
+#include <thrust/reduce.h>
+#include <thrust/transform.h>
+#include <thrust/functional.h>
+
+#include <chrono>
+
+namespace twinflow::sph::TWINFLOW_SPH_BACKEND
+{
+  namespace detail
+  {
+    struct ExtractComponentBase {};
+    template <int dim>
+    struct ExtractComponent
+    {
+      int c;
+      TWINFLOW_HD double operator()(const Vec<dim> &v) const { return v[c]; }
+    };
+    template <int dim>
+    struct SetComponent
+    {
+      const double *src;
+      Vec<dim>     *dst;
+      int           c;
+      TWINFLOW_HD void operator()(int i) const { dst[i][c] = src[i]; }
+    };
+    struct IsFluid
+    {
+      TWINFLOW_HD bool operator()(int k) const { return k == ParticleKind::fluid; }
+    };
+
+    class Stopwatch
+    {
+    public:
+      Stopwatch() : t0(std::chrono::steady_clock::now()) {}
+      double lap()
+      {
+        const auto t1 = std::chrono::steady_clock::now();
+        const double s = std::chrono::duration<double>(t1 - t0).count();
+        t0 = t1;
+        return s;
+      }
+    private:
+      std::chrono::steady_clock::time_point t0;
+    };
+  } // namespace detail
+
+  template <int dim>
+  class BackendEngine : public Engine<dim>
+  {
+  public:
+    BackendEngine(const DomainBox<dim> &box, const EngineSettings &s)
+      : box(box), settings(s), W(s.h), search(box, 2.0 * s.h)
+    {
+      double vol = 1;
+      for (int d = 0; d < dim; ++d)
+        vol *= s.spacing;
+      m0 = s.rho0 * vol;
+    }
+
+    void set_particles(const HostParticles<dim> &p) override
+    {
+      n = static_cast<int>(p.size());
+      x.assign(p.x.begin(), p.x.end());
+      u.assign(p.u.begin(), p.u.end());
+      pressure.assign(p.p.begin(), p.p.end());
+      kind.assign(p.kind.begin(), p.kind.end());
+      wall_velocity.assign(p.wall_velocity.begin(), p.wall_velocity.end());
+      wall_acceleration.assign(p.wall_acceleration.begin(), p.wall_acceleration.end());
+      normal.assign(p.normal.begin(), p.normal.end());
+      rho.resize(n);
+      support.resize(n);
+      surface.resize(n);
+      V.resize(n);
+      rhs.resize(n);
+      tmp.resize(n);
+      comp.resize(n);
+      div_u.resize(n);
+      for (int d = 0; d < dim; ++d)
+        grad_p[d].resize(n);
+      // confined flows: pin the first fluid particle's pressure
+      pinned = -1;
+      if (!settings.free_surface)
+        for (int i = 0; i < n; ++i)
+          if (p.kind[i] == ParticleKind::fluid)
+          {
+            pinned = i;
+            break;
+          }
+    }
+
+    void get_particles(HostParticles<dim> &p) const override
+    {
+      p.x.resize(n);
+      p.u.resize(n);
+      p.p.resize(n);
+      p.rho.resize(n);
+      p.kind.resize(n);
+      thrust::copy(x.begin(), x.end(), p.x.begin());
+      thrust::copy(u.begin(), u.end(), p.u.begin());
+      thrust::copy(pressure.begin(), pressure.end(), p.p.begin());
+      thrust::copy(rho.begin(), rho.end(), p.rho.begin());
+      thrust::copy(kind.begin(), kind.end(), p.kind.begin());
+    }
+
+    const StepReport &step(const double dt) override
+    {
+      detail::Stopwatch clock;
+      report = StepReport();
+      const thrust::counting_iterator<int> first(0), last(n);
+
+      // 1. neighbours, volumes, density, free surface, operators
+      search.build(x, nl);
+      report.t_neighbors = clock.lap();
+      compute_volumes<dim>(x, nl, box, W, V);
+      thrust::for_each(exec, first, last,
+                       detail::DensityAndSupport<dim>{ptr(x), ptr(kind), ptr(nl.offsets), ptr(nl.indices), box, W, m0,
+                                                      settings.rho0, settings.free_surface_ratio, settings.free_surface,
+                                                      ptr(rho), ptr(support), ptr(surface)});
+      report.free_surface_particles = thrust::reduce(exec, surface.begin(), surface.end(), 0);
+      if (settings.consistent)
+        report.correction_fallbacks = compute_corrections<dim>(x, V, nl, box, W, G, L);
+      assemble_operators<dim>(x, V, nl, box, W, settings.consistent ? OperatorKind::consistent : OperatorKind::standard,
+                              G, L, A);
+      values.resize(nl.n_entries());
+      const double nu = settings.mu / settings.rho0, inv_dt = 1.0 / dt;
+      thrust::for_each(exec, first, last,
+                       detail::VelocityMatrix<dim>{ptr(x), ptr(kind), ptr(nl.offsets), ptr(nl.indices),
+                                                   ptr(A.laplacian), ptr(support), box, W, inv_dt, 0.5 * nu,
+                                                   ptr(values)});
+      report.t_assembly = clock.lap();
+
+      // 2. velocity prediction, Eq. 56 (one solve per component, same matrix)
+      for (int c = 0; c < dim; ++c)
+      {
+        thrust::transform(exec, u.begin(), u.end(), comp.begin(), detail::ExtractComponent<dim>{c});
+        spmv(nl.offsets, nl.indices, A.laplacian, comp, tmp);
+        thrust::for_each(exec, first, last,
+                         detail::VelocityRhs<dim>{ptr(kind), ptr(tmp), ptr(support), ptr(u), ptr(wall_velocity), c,
+                                                  inv_dt, 0.5 * nu, settings.acceleration[c], ptr(rhs)});
+        report.velocity[c] = bicgstab(nl.offsets, nl.indices, values, rhs, comp, settings.velocity_solver);
+        thrust::for_each(exec, first, last, detail::SetComponent<dim>{ptr(comp), ptr(u), c});
+      }
+      report.t_velocity = clock.lap();
+
+      // 3. ∇·u* (Eq. 41) and the pressure Poisson equation, Eq. 53/55/57 + BCE rows
+      thrust::fill(exec, div_u.begin(), div_u.end(), 0.0);
+      for (int c = 0; c < dim; ++c)
+      {
+        thrust::transform(exec, u.begin(), u.end(), comp.begin(), detail::ExtractComponent<dim>{c});
+        spmv(nl.offsets, nl.indices, A.gradient[c], comp, tmp);
+        thrust::transform(exec, div_u.begin(), div_u.end(), tmp.begin(), div_u.begin(), thrust::plus<double>());
+      }
+      const bool neumann = settings.pressure_wall == PressureWall::neumann;
+      detail::PressureMatrix<dim> pm{ptr(x), ptr(normal), ptr(kind), ptr(nl.offsets), ptr(nl.indices), ptr(surface),
+                                     ptr(A.laplacian), ptr(support), {}, box, W, 1.0 / settings.rho0, neumann, pinned,
+                                     ptr(values)};
+      for (int d = 0; d < dim; ++d)
+        pm.grad[d] = ptr(A.gradient[d]);
+      thrust::for_each(exec, first, last, pm);
+      detail::PressureRhs<dim> pr{ptr(x), ptr(wall_acceleration), ptr(kind), ptr(nl.offsets), ptr(nl.indices),
+                                  ptr(surface), ptr(div_u), ptr(rho), ptr(support), box, W, dt, settings.rho0,
+                                  settings.alpha, {}, neumann, pinned, ptr(rhs)};
+      for (int d = 0; d < dim; ++d)
+        pr.g[d] = settings.gravity[d];
+      thrust::for_each(exec, first, last, pr);
+      report.pressure = bicgstab(nl.offsets, nl.indices, values, rhs, pressure, settings.pressure_solver);
+      report.t_pressure = clock.lap();
+
+      // 4. correction, Eq. 58, and position update
+      detail::CorrectAndMove<dim> cm{ptr(kind), {}, ptr(wall_velocity), box, dt, 1.0 / settings.rho0, ptr(x), ptr(u)};
+      for (int d = 0; d < dim; ++d)
+      {
+        spmv(nl.offsets, nl.indices, A.gradient[d], pressure, grad_p[d]);
+        cm.grad_p[d] = ptr(grad_p[d]);
+      }
+      thrust::for_each(exec, first, last, cm);
+      report.max_speed = max_fluid_speed();
+      report.t_update  = clock.lap();
+      return report;
+    }
+
+    double max_fluid_speed() const override
+    {
+      const thrust::counting_iterator<int> first(0);
+      return thrust::transform_reduce(exec, first, first + n, detail::FluidSpeed<dim>{ptr(u), ptr(kind)}, 0.0,
+                                      thrust::maximum<double>());
+    }
+
+    std::size_t n_neighbor_entries() const override { return nl.n_entries(); }
+
+    std::size_t bytes_per_particle() const override
+    {
+      if (n == 0)
+        return 0;
+      const std::size_t per_entry = sizeof(int) + sizeof(double) * (dim + 2); // index, A^G, A^L, system
+      const std::size_t per_particle =
+        sizeof(Vec<dim>) * 5 + sizeof(double) * (8 + dim) + sizeof(int) * 3 + 2 * sizeof(Tensor2<dim>);
+      return per_particle + per_entry * nl.n_entries() / n;
+    }
+
+    const char *backend() const override { return backend_name(); }
+
+  private:
+    DomainBox<dim>     box;
+    EngineSettings     settings;
+    CubicSpline<dim>   W;
+    NeighborSearch<dim> search;
+    NeighborList       nl;
+    OperatorMatrices<dim> A;
+    dvec<Tensor2<dim>> G, L;
+    dvec<Vec<dim>>     x, u, wall_velocity, wall_acceleration, normal;
+    dvec<double>       pressure, rho, support, V, rhs, tmp, comp, div_u, values, grad_p[dim];
+    dvec<int>          kind, surface;
+    double             m0 = 0;
+    int                n = 0, pinned = -1;
+    StepReport         report;
+  };
+
+  template <int dim>
+  std::unique_ptr<Engine<dim>> create_engine(const DomainBox<dim> &box, const EngineSettings &settings)
+  {
+    return std::make_unique<BackendEngine<dim>>(box, settings);
+  }
+
+  template std::unique_ptr<Engine<2>> create_engine<2>(const DomainBox<2> &, const EngineSettings &);
+  template std::unique_ptr<Engine<3>> create_engine<3>(const DomainBox<3> &, const EngineSettings &);
+} // namespace twinflow::sph::TWINFLOW_SPH_BACKEND

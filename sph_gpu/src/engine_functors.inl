@@ -1,0 +1,215 @@
+// Per-particle functors of Algorithm 2 (velocity prediction, pressure Poisson, correction).
+// Part of the single kernel source: included by engine.inl for both backends.
+#pragma once
+#include <twinflow_sph/backend.h>
+#include <twinflow_sph/domain.h>
+#include <twinflow_sph/engine.h>
+#include <twinflow_sph/kernel.h>
+
+namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
+{
+  /// ρ_i = m0 Σ_j W_ij (summation density over fluid and BCE markers) and, for BCE
+  /// markers, S_a = Σ_{b∈F} W_ab (Eq. 60–65); free-surface flag for fluid particles.
+  template <int dim>
+  struct DensityAndSupport
+  {
+    const Vec<dim> *x;
+    const int      *kind, *offsets, *indices;
+    DomainBox<dim>  box;
+    CubicSpline<dim> W;
+    double          m0, rho0, ratio;
+    bool            free_surface;
+    double         *rho, *support;
+    int            *surface;
+    TWINFLOW_HD void operator()(int i) const
+    {
+      double sum = 0, fluid_sum = 0;
+      for (int k = offsets[i]; k < offsets[i + 1]; ++k)
+      {
+        const int    j = indices[k];
+        const double w = W.value(geometry::norm(box.difference(x[i], x[j])));
+        sum += w;
+        if (kind[j] == ParticleKind::fluid && j != i)
+          fluid_sum += w;
+      }
+      rho[i]     = m0 * sum;
+      support[i] = fluid_sum;
+      surface[i] = (kind[i] == ParticleKind::fluid && free_surface && rho[i] < ratio * rho0) ? 1 : 0;
+    }
+  };
+
+  /// Velocity system of Eq. 56 (fluid rows) and Eq. 62–63 (BCE rows), matrix values.
+  template <int dim>
+  struct VelocityMatrix
+  {
+    const Vec<dim> *x;
+    const int      *kind, *offsets, *indices;
+    const double   *lap, *support;
+    DomainBox<dim>  box;
+    CubicSpline<dim> W;
+    double          inv_dt, half_nu;
+    double         *values;
+    TWINFLOW_HD void operator()(int i) const
+    {
+      for (int k = offsets[i]; k < offsets[i + 1]; ++k)
+      {
+        const int j = indices[k];
+        if (kind[i] == ParticleKind::fluid)
+          values[k] = (j == i ? inv_dt : 0.0) - half_nu * lap[k];
+        else if (support[i] > 0)
+          values[k] = j == i ? support[i]
+                      : (kind[j] == ParticleKind::fluid ? W.value(geometry::norm(box.difference(x[i], x[j]))) : 0.0);
+        else
+          values[k] = j == i ? 1.0 : 0.0;
+      }
+    }
+  };
+
+  /// Right-hand side of component c of the velocity system.
+  template <int dim>
+  struct VelocityRhs
+  {
+    const int      *kind;
+    const double   *lap_u, *support; ///< (A^L u^n_c)_i
+    const Vec<dim> *u, *wall_velocity;
+    int             c;
+    double          inv_dt, half_nu, f;
+    double         *rhs;
+    TWINFLOW_HD void operator()(int i) const
+    {
+      if (kind[i] == ParticleKind::fluid)
+        rhs[i] = inv_dt * u[i][c] + half_nu * lap_u[i] + f;
+      else
+        rhs[i] = support[i] > 0 ? 2.0 * wall_velocity[i][c] * support[i] : wall_velocity[i][c];
+    }
+  };
+
+  /// Pressure system of Eq. 57 (fluid), p = 0 (free surface), Eq. 64–65 or 66–67 (BCE).
+  template <int dim>
+  struct PressureMatrix
+  {
+    const Vec<dim> *x, *normal;
+    const int      *kind, *offsets, *indices, *surface;
+    const double   *lap, *support, *grad[dim];
+    DomainBox<dim>  box;
+    CubicSpline<dim> W;
+    double          inv_rho0;
+    bool            neumann;
+    int             pinned;   ///< particle whose pressure is fixed to 0 (confined flows), or −1
+    double         *values;
+    TWINFLOW_HD void operator()(int i) const
+    {
+      const bool identity = (kind[i] == ParticleKind::fluid && (surface[i] || i == pinned)) ||
+                            (kind[i] != ParticleKind::fluid && support[i] <= 0);
+      double diag_neumann = 0;
+      for (int k = offsets[i]; k < offsets[i + 1]; ++k)
+      {
+        const int j = indices[k];
+        double    v = 0;
+        if (identity)
+          v = j == i ? 1.0 : 0.0;
+        else if (kind[i] == ParticleKind::fluid)
+          v = inv_rho0 * lap[k];
+        else if (!neumann)
+          v = j == i ? support[i]
+                     : (kind[j] == ParticleKind::fluid ? -W.value(geometry::norm(box.difference(x[i], x[j]))) : 0.0);
+        else if (kind[j] == ParticleKind::fluid && j != i)
+        {
+          // n_a · ∇p_a restricted to fluid neighbours: Σ_b (A^G_ab·n_a)(p_b − p_a) = 0
+          double gn = 0;
+          for (int d = 0; d < dim; ++d)
+            gn += grad[d][k] * normal[i][d];
+          v = gn;
+          diag_neumann -= gn;
+        }
+        values[k] = v;
+      }
+      if (!identity && kind[i] != ParticleKind::fluid && neumann)
+        for (int k = offsets[i]; k < offsets[i + 1]; ++k)
+          if (indices[k] == i)
+            values[k] = diag_neumann != 0 ? diag_neumann : 1.0;
+    }
+  };
+
+  /// Right-hand side of the pressure system.
+  template <int dim>
+  struct PressureRhs
+  {
+    const Vec<dim> *x, *wall_acceleration;
+    const int      *kind, *offsets, *indices, *surface;
+    const double   *div_u, *rho, *support;
+    DomainBox<dim>  box;
+    CubicSpline<dim> W;
+    double          dt, rho0, alpha, g[dim];
+    bool            neumann;
+    int             pinned;
+    double         *rhs;
+    TWINFLOW_HD void operator()(int i) const
+    {
+      if (kind[i] == ParticleKind::fluid)
+      {
+        if (surface[i] || i == pinned)
+        {
+          rhs[i] = 0;
+          return;
+        }
+        // Eq. 53: ρ* = ρ^n − Δt ρ^n ∇·u*; Eq. 55/57 with the density-invariance term
+        // measured against the rest density (Asai et al. 2012).
+        const double rho_star = rho[i] - dt * rho[i] * div_u[i];
+        rhs[i] = alpha * (rho0 - rho_star) / (rho0 * dt * dt) + (1.0 - alpha) * div_u[i] / dt;
+        return;
+      }
+      if (support[i] <= 0 || neumann)
+      {
+        rhs[i] = 0;
+        return;
+      }
+      double s = 0; // (g − a^p)·Σ_b ρ_b r_ab W_ab, Eq. 64
+      for (int k = offsets[i]; k < offsets[i + 1]; ++k)
+      {
+        const int j = indices[k];
+        if (kind[j] != ParticleKind::fluid || j == i)
+          continue;
+        const Vec<dim> r = box.difference(x[i], x[j]);
+        const double   w = W.value(geometry::norm(r));
+        for (int d = 0; d < dim; ++d)
+          s += (g[d] - wall_acceleration[i][d]) * rho[j] * r[d] * w;
+      }
+      rhs[i] = s;
+    }
+  };
+
+  /// Eq. 58 and the position update for fluid; BCE markers take the wall velocity.
+  template <int dim>
+  struct CorrectAndMove
+  {
+    const int    *kind;
+    const double *grad_p[dim];
+    const Vec<dim> *wall_velocity;
+    DomainBox<dim> box;
+    double        dt, inv_rho0;
+    Vec<dim>     *x, *u;
+    TWINFLOW_HD void operator()(int i) const
+    {
+      if (kind[i] != ParticleKind::fluid)
+      {
+        u[i] = wall_velocity[i];
+        return;
+      }
+      for (int d = 0; d < dim; ++d)
+        u[i][d] -= dt * inv_rho0 * grad_p[d][i];
+      for (int d = 0; d < dim; ++d)
+        x[i][d] += dt * u[i][d];
+      x[i] = box.wrap(x[i]);
+    }
+  };
+
+  /// |u_i| for fluid particles, 0 otherwise (max reduction).
+  template <int dim>
+  struct FluidSpeed
+  {
+    const Vec<dim> *u;
+    const int      *kind;
+    TWINFLOW_HD double operator()(int i) const { return kind[i] == ParticleKind::fluid ? geometry::norm(u[i]) : 0.0; }
+  };
+} // namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail

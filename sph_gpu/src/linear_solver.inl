@@ -1,0 +1,160 @@
+// CSR SpMV and right-Jacobi-preconditioned BiCGStab (van der Vorst 1992), compiled once per
+// backend. Every vector operation is a functor run through a Thrust algorithm with `exec`.
+#include <twinflow_sph/linear_solver.h>
+
+#include <thrust/copy.h>
+#include <thrust/fill.h>
+#include <thrust/for_each.h>
+#include <thrust/inner_product.h>
+#include <thrust/iterator/counting_iterator.h>
+
+#include <cmath>
+#include <limits>
+
+namespace twinflow::sph::TWINFLOW_SPH_BACKEND
+{
+  namespace
+  {
+    /// y[i] = sum_k values[k] x[indices[k]] over row i.
+    struct SpmvRow
+    {
+      const int *offsets, *indices; const double *values, *x; double *y;
+      TWINFLOW_HD void operator()(int i) const
+      {
+        double sum = 0;
+        for (int k = offsets[i]; k < offsets[i + 1]; ++k) sum += values[k] * x[indices[k]];
+        y[i] = sum;
+      }
+    };
+
+    /// inv_diag[i] = 1 / A_ii (duplicates summed), 1 where the diagonal is zero.
+    struct InverseDiagonal
+    {
+      const int *offsets, *indices; const double *values; double *inv_diag;
+      TWINFLOW_HD void operator()(int i) const
+      {
+        double d = 0;
+        for (int k = offsets[i]; k < offsets[i + 1]; ++k)
+          if (indices[k] == i) d += values[k];
+        inv_diag[i] = d != 0 ? 1 / d : 1;
+      }
+    };
+
+    /// out[i] = x[i] + a y[i] (out may alias x).
+    struct Axpy
+    {
+      double *out; const double *x; double a; const double *y;
+      TWINFLOW_HD void operator()(int i) const { out[i] = x[i] + a * y[i]; }
+    };
+
+    /// out[i] = d[i] in[i].
+    struct Scale
+    {
+      double *out; const double *d, *in;
+      TWINFLOW_HD void operator()(int i) const { out[i] = d[i] * in[i]; }
+    };
+
+    /// p[i] = r[i] + beta (p[i] − omega v[i]).
+    struct UpdateDirection
+    {
+      double *p; const double *r, *v; double beta, omega;
+      TWINFLOW_HD void operator()(int i) const { p[i] = r[i] + beta * (p[i] - omega * v[i]); }
+    };
+
+    template <typename F>
+    void apply(int n, const F &f) { thrust::for_each(exec, thrust::counting_iterator<int>(0), thrust::counting_iterator<int>(n), f); }
+
+    double dot(const dvec<double> &a, const dvec<double> &b) { return thrust::inner_product(exec, a.begin(), a.end(), b.begin(), 0.0); }
+    double norm(const dvec<double> &a) { return std::sqrt(dot(a, a)); }
+
+    struct Csr { const dvec<int> &offsets, &indices; const dvec<double> &values; };
+
+    /// r = b − A x, returns ||r||.
+    double residual(const Csr &A, const dvec<double> &b, const dvec<double> &x, dvec<double> &r)
+    {
+      spmv(A.offsets, A.indices, A.values, x, r);
+      apply(int(b.size()), Axpy{ptr(r), ptr(b), -1.0, ptr(r)});
+      return norm(r);
+    }
+  } // namespace
+
+  void spmv(const dvec<int> &offsets, const dvec<int> &indices, const dvec<double> &values,
+            const dvec<double> &x, dvec<double> &y)
+  {
+    const int n = offsets.empty() ? 0 : int(offsets.size()) - 1;
+    if (int(y.size()) != n) y.resize(n);
+    apply(n, SpmvRow{ptr(offsets), ptr(indices), ptr(values), ptr(x), ptr(y)});
+  }
+
+  SolverResult bicgstab(const dvec<int> &offsets, const dvec<int> &indices, const dvec<double> &values,
+                        const dvec<double> &b, dvec<double> &x, const SolverSettings &settings)
+  {
+    const Csr    A{offsets, indices, values};
+    const int    n     = int(b.size());
+    const double tiny  = std::numeric_limits<double>::epsilon() * std::numeric_limits<double>::epsilon();
+    SolverResult result;
+    if (int(x.size()) != n) x.assign(n, 0.0);
+    const double bnorm = norm(b);
+    if (bnorm == 0) { thrust::fill(exec, x.begin(), x.end(), 0.0); result.converged = true; return result; }
+    const double target = settings.tolerance * bnorm;
+
+    dvec<double> inv_diag(n), r(n), r_hat(n), p(n), v(n), p_hat(n), s(n), s_hat(n), t(n), x_best(x);
+    apply(n, InverseDiagonal{ptr(offsets), ptr(indices), ptr(values), ptr(inv_diag)});
+    double r_norm = residual(A, b, x, r), best = r_norm, r_hat_norm = 0, rho_old = 1, alpha = 1, omega = 1;
+    bool   restart = true;
+    int    it      = 0;
+    // r is the unpreconditioned residual (right preconditioning). When its recurrence claims
+    // convergence the true residual is recomputed; if that disagrees the iteration restarts from it.
+    // The iterate of least residual is kept: a failed solve (breakdown, iteration limit, singular
+    // inconsistent system) returns it rather than a diverged one.
+    while (r_norm > target && it < settings.max_iterations)
+    {
+      if (r_norm < best) best = r_norm, thrust::copy(exec, x.begin(), x.end(), x_best.begin());
+      if (restart)
+      {
+        thrust::copy(exec, r.begin(), r.end(), r_hat.begin());
+        thrust::fill(exec, p.begin(), p.end(), 0.0);
+        thrust::fill(exec, v.begin(), v.end(), 0.0);
+        r_hat_norm = r_norm, rho_old = alpha = omega = 1, restart = false;
+      }
+      const double rho = dot(r_hat, r);
+      if (!(std::abs(rho) > tiny * r_hat_norm * r_norm)) break;             // rho breakdown
+      const double beta = rho / rho_old * (alpha / omega);
+      apply(n, UpdateDirection{ptr(p), ptr(r), ptr(v), beta, omega});
+      apply(n, Scale{ptr(p_hat), ptr(inv_diag), ptr(p)});
+      spmv(offsets, indices, values, p_hat, v);
+      const double r_hat_v = dot(r_hat, v);
+      if (!(std::abs(r_hat_v) > tiny * r_hat_norm * norm(v))) break;        // (r̂, v) breakdown
+      alpha = rho / r_hat_v;
+      apply(n, Axpy{ptr(s), ptr(r), -alpha, ptr(v)});
+      ++it;
+      if (norm(s) <= target)                                                  // half step suffices
+      {
+        apply(n, Axpy{ptr(x), ptr(x), alpha, ptr(p_hat)});
+        r_norm = residual(A, b, x, r), restart = true;
+        continue;
+      }
+      apply(n, Scale{ptr(s_hat), ptr(inv_diag), ptr(s)});
+      spmv(offsets, indices, values, s_hat, t);
+      const double tt = dot(t, t), ts = dot(t, s);
+      apply(n, Axpy{ptr(x), ptr(x), alpha, ptr(p_hat)});
+      if (!(std::abs(ts) > tiny * std::sqrt(tt) * norm(s)))                  // omega breakdown
+        break;
+      omega = ts / tt;
+      apply(n, Axpy{ptr(x), ptr(x), omega, ptr(s_hat)});
+      apply(n, Axpy{ptr(r), ptr(s), -omega, ptr(t)});
+      r_norm = norm(r), rho_old = rho;
+      if (r_norm <= target) r_norm = residual(A, b, x, r), restart = true;
+    }
+    result.iterations = it;
+    result.residual   = residual(A, b, x, r) / bnorm;                        // honest final residual
+    if (!(result.residual <= settings.tolerance))                          // also when NaN
+    {
+      const double best_residual = residual(A, b, x_best, r) / bnorm;
+      if (!(result.residual <= best_residual))
+        thrust::copy(exec, x_best.begin(), x_best.end(), x.begin()), result.residual = best_residual;
+    }
+    result.converged  = result.residual <= settings.tolerance;
+    return result;
+  }
+} // namespace twinflow::sph::TWINFLOW_SPH_BACKEND

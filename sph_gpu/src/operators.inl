@@ -1,0 +1,471 @@
+// SPH operators (single source for the CPU and CUDA backends): volumes (Eq. 17),
+// correction tensors G (Eq. 24) and L (Eq. 25–26), and the matrices A^G, A^L of the
+// standard (Eq. 19–20, 29, 36–39) and consistent (Eq. 22–23) discretisations.
+//
+// Conventions: r_ij = x_i − x_j (minimum image), e_ij = r_ij/|r_ij|, ∇_i W_ij =
+// CubicSpline::gradient(r_ij). One functor per particle (row) walks the row of the CSR
+// neighbour list; the matrices share that pattern.
+#include <twinflow_sph/operators.h>
+
+#include <thrust/for_each.h>
+#include <thrust/iterator/counting_iterator.h>
+#include <thrust/reduce.h>
+
+namespace twinflow::sph::TWINFLOW_SPH_BACKEND
+{
+  namespace operators_detail
+  {
+    /// G^{-1} is inverted only if |det| > kGDetTolerance · ‖G^{-1}‖_∞^dim (else G = I).
+    constexpr double kGDetTolerance = 1e-3;
+    /// The L system is singular if a pivot ≤ kLPivotTolerance · max |K_ab| (then L = I).
+    constexpr double kLPivotTolerance = 1e-8;
+
+    TWINFLOW_HD inline double abs_(const double a) { return a < 0 ? -a : a; }
+    TWINFLOW_HD inline bool   finite_(const double a) { return a - a == 0.0; }
+
+    template <int dim>
+    TWINFLOW_HD inline Tensor2<dim> identity()
+    {
+      Tensor2<dim> t;
+      for (int m = 0; m < dim; ++m)
+        for (int n = 0; n < dim; ++n)
+          t.a[m][n] = m == n ? 1.0 : 0.0;
+      return t;
+    }
+
+    /// Inverse of a dim × dim matrix by cofactors; false if (relatively) singular.
+    template <int dim>
+    TWINFLOW_HD inline bool invert(const double M[dim][dim], double R[dim][dim])
+    {
+      double scale = 0;
+      for (int m = 0; m < dim; ++m)
+      {
+        double row = 0;
+        for (int n = 0; n < dim; ++n)
+          row += abs_(M[m][n]);
+        scale = row > scale ? row : scale;
+      }
+      if (!(scale > 0) || !finite_(scale))
+        return false;
+      double det, scale_dim = scale * scale;
+      if constexpr (dim == 2)
+      {
+        det     = M[0][0] * M[1][1] - M[0][1] * M[1][0];
+        R[0][0] = M[1][1];
+        R[0][1] = -M[0][1];
+        R[1][0] = -M[1][0];
+        R[1][1] = M[0][0];
+      }
+      else
+      {
+        scale_dim *= scale;
+        R[0][0] = M[1][1] * M[2][2] - M[1][2] * M[2][1];
+        R[0][1] = M[0][2] * M[2][1] - M[0][1] * M[2][2];
+        R[0][2] = M[0][1] * M[1][2] - M[0][2] * M[1][1];
+        R[1][0] = M[1][2] * M[2][0] - M[1][0] * M[2][2];
+        R[1][1] = M[0][0] * M[2][2] - M[0][2] * M[2][0];
+        R[1][2] = M[0][2] * M[1][0] - M[0][0] * M[1][2];
+        R[2][0] = M[1][0] * M[2][1] - M[1][1] * M[2][0];
+        R[2][1] = M[0][1] * M[2][0] - M[0][0] * M[2][1];
+        R[2][2] = M[0][0] * M[1][1] - M[0][1] * M[1][0];
+        det     = M[0][0] * R[0][0] + M[0][1] * R[1][0] + M[0][2] * R[2][0];
+      }
+      if (!(abs_(det) > kGDetTolerance * scale_dim))
+        return false;
+      for (int m = 0; m < dim; ++m)
+        for (int n = 0; n < dim; ++n)
+          R[m][n] /= det;
+      return true;
+    }
+
+    /// Solves K y = b (N × N, overwritten) by Gaussian elimination with partial pivoting;
+    /// false if a pivot is below kLPivotTolerance · max |K| or the result is not finite.
+    template <int N>
+    TWINFLOW_HD inline bool solve(double K[N][N], double b[N], double y[N])
+    {
+      double scale = 0;
+      for (int a = 0; a < N; ++a)
+        for (int c = 0; c < N; ++c)
+          scale = abs_(K[a][c]) > scale ? abs_(K[a][c]) : scale;
+      if (!(scale > 0) || !finite_(scale))
+        return false;
+      const double tol = kLPivotTolerance * scale;
+      for (int col = 0; col < N; ++col)
+      {
+        int    p    = col;
+        double best = abs_(K[col][col]);
+        for (int a = col + 1; a < N; ++a)
+          if (abs_(K[a][col]) > best)
+          {
+            best = abs_(K[a][col]);
+            p    = a;
+          }
+        if (!(best > tol))
+          return false;
+        if (p != col)
+        {
+          for (int c = 0; c < N; ++c)
+          {
+            const double t = K[col][c];
+            K[col][c]      = K[p][c];
+            K[p][c]        = t;
+          }
+          const double t = b[col];
+          b[col]         = b[p];
+          b[p]           = t;
+        }
+        for (int a = col + 1; a < N; ++a)
+        {
+          const double f = K[a][col] / K[col][col];
+          for (int c = col; c < N; ++c)
+            K[a][c] -= f * K[col][c];
+          b[a] -= f * b[col];
+        }
+      }
+      for (int a = N - 1; a >= 0; --a)
+      {
+        double s = b[a];
+        for (int c = a + 1; c < N; ++c)
+          s -= K[a][c] * y[c];
+        y[a] = s / K[a][a];
+        if (!finite_(y[a]))
+          return false;
+      }
+      return true;
+    }
+
+    /// Neighbour geometry of one pair: r_ij, |r_ij|, e_ij, ∇_i W_ij (|r| = 0: all zero).
+    template <int dim>
+    struct Pair
+    {
+      geometry::Vec<dim> r, e, gradW;
+      double             dist;
+
+      TWINFLOW_HD Pair(const DomainBox<dim> &box, const CubicSpline<dim> &W, const geometry::Vec<dim> &xi,
+                       const geometry::Vec<dim> &xj)
+      {
+        r    = box.difference(xi, xj);
+        dist = geometry::norm(r);
+        if (dist > 0)
+        {
+          e     = r / dist;
+          gradW = W.gradient(r);
+        }
+        else
+        {
+          e     = geometry::Vec<dim>::zero();
+          gradW = geometry::Vec<dim>::zero();
+        }
+      }
+    };
+
+    /// V_i = 1 / Σ_j W_ij (Eq. 17).
+    template <int dim>
+    struct VolumeF
+    {
+      const geometry::Vec<dim> *x;
+      const int                *offsets, *indices;
+      DomainBox<dim>            box;
+      CubicSpline<dim>          W;
+      double                   *V;
+
+      TWINFLOW_HD void operator()(const int i) const
+      {
+        double sum = 0;
+        for (int k = offsets[i]; k < offsets[i + 1]; ++k)
+          sum += W.value(geometry::norm(box.difference(x[i], x[indices[k]])));
+        V[i] = sum > 0 ? 1.0 / sum : 0.0;
+      }
+    };
+
+    /// G_i (Eq. 24) and L_i (Eq. 25–26); fallback[i] = 1 where either used the identity.
+    template <int dim>
+    struct CorrectionF
+    {
+      static constexpr int NL = dim * (dim + 1) / 2;  ///< unknowns of the symmetric L
+
+      const geometry::Vec<dim> *x;
+      const double             *V;
+      const int                *offsets, *indices;
+      DomainBox<dim>            box;
+      CubicSpline<dim>          W;
+      Tensor2<dim>             *G, *L;
+      int                      *fallback;
+
+      TWINFLOW_HD void operator()(const int i) const
+      {
+        const geometry::Vec<dim> xi = x[i];
+        const int                k0 = offsets[i], k1 = offsets[i + 1];
+
+        // --- G_i: (G^{-1})^{mn} = −Σ_j r^m ∇_n W V_j
+        double Minv[dim][dim];
+        for (int m = 0; m < dim; ++m)
+          for (int n = 0; n < dim; ++n)
+            Minv[m][n] = 0;
+        for (int k = k0; k < k1; ++k)
+        {
+          const int j = indices[k];
+          if (j == i)
+            continue;
+          const Pair<dim> p(box, W, xi, x[j]);
+          for (int m = 0; m < dim; ++m)
+            for (int n = 0; n < dim; ++n)
+              Minv[m][n] -= p.r[m] * p.gradW[n] * V[j];
+        }
+        Tensor2<dim> Gi;
+        bool         g_ok = invert<dim>(Minv, Gi.a);
+        if (!g_ok)
+          Gi = identity<dim>();
+        G[i] = Gi;
+
+        // --- A^{kmn} = Σ_j r^m r^n G^{kq} ∇_q W V_j (Eq. 26)
+        double A[dim][dim][dim];
+        for (int a = 0; a < dim; ++a)
+          for (int m = 0; m < dim; ++m)
+            for (int n = 0; n < dim; ++n)
+              A[a][m][n] = 0;
+        for (int k = k0; k < k1; ++k)
+        {
+          const int j = indices[k];
+          if (j == i)
+            continue;
+          const Pair<dim> p(box, W, xi, x[j]);
+          for (int a = 0; a < dim; ++a)
+          {
+            double Gg = 0;
+            for (int q = 0; q < dim; ++q)
+              Gg += Gi.a[a][q] * p.gradW[q];
+            Gg *= V[j];
+            for (int m = 0; m < dim; ++m)
+              for (int n = 0; n < dim; ++n)
+                A[a][m][n] += p.r[m] * p.r[n] * Gg;
+          }
+        }
+
+        // --- Eq. 25 for the pairs m ≤ n (rows) in the unknowns L^{op}, o ≤ p (columns):
+        //     Σ_j (A^{kmn} e^k + r^m e^n) (Σ_{o≤p} c_op L^{op}) V_j = −δ^{mn},
+        //     c_oo = e^o ∇_o W, c_op = e^o ∇_p W + e^p ∇_o W (o < p, L symmetric).
+        int pm[NL], pn[NL];
+        {
+          int a = 0;
+          for (int m = 0; m < dim; ++m)
+            for (int n = m; n < dim; ++n)
+            {
+              pm[a] = m;
+              pn[a] = n;
+              ++a;
+            }
+        }
+        double K[NL][NL], b[NL], y[NL];
+        for (int a = 0; a < NL; ++a)
+        {
+          b[a] = pm[a] == pn[a] ? -1.0 : 0.0;
+          for (int c = 0; c < NL; ++c)
+            K[a][c] = 0;
+        }
+        for (int k = k0; k < k1; ++k)
+        {
+          const int j = indices[k];
+          if (j == i)
+            continue;
+          const Pair<dim> p(box, W, xi, x[j]);
+          if (p.dist <= 0)
+            continue;
+          double coef[NL], col[NL];
+          for (int a = 0; a < NL; ++a)
+          {
+            const int m = pm[a], n = pn[a];
+            double    s = p.r[m] * p.e[n];
+            for (int q = 0; q < dim; ++q)
+              s += A[q][m][n] * p.e[q];
+            coef[a] = s;
+            col[a]  = m == n ? p.e[m] * p.gradW[m] : p.e[m] * p.gradW[n] + p.e[n] * p.gradW[m];
+            col[a] *= V[j];
+          }
+          for (int a = 0; a < NL; ++a)
+            for (int c = 0; c < NL; ++c)
+              K[a][c] += coef[a] * col[c];
+        }
+        Tensor2<dim> Li;
+        const bool   l_ok = solve<NL>(K, b, y);
+        if (l_ok)
+          for (int a = 0; a < NL; ++a)
+          {
+            Li.a[pm[a]][pn[a]] = y[a];
+            Li.a[pn[a]][pm[a]] = y[a];
+          }
+        else
+          Li = identity<dim>();
+        L[i]        = Li;
+        fallback[i] = (g_ok && l_ok) ? 0 : 1;
+      }
+    };
+
+    /// Row i of A^G and A^L.
+    template <int dim>
+    struct AssembleF
+    {
+      const geometry::Vec<dim> *x;
+      const double             *V;
+      const int                *offsets, *indices;
+      DomainBox<dim>            box;
+      CubicSpline<dim>          W;
+      bool                      consistent;
+      const Tensor2<dim>       *G, *L;
+      double                   *grad[dim];
+      double                   *lap;
+
+      TWINFLOW_HD explicit AssembleF(const CubicSpline<dim> &W_) : W(W_) {}
+
+      TWINFLOW_HD void operator()(const int i) const
+      {
+        const geometry::Vec<dim> xi = x[i];
+        const int                k0 = offsets[i], k1 = offsets[i + 1];
+        Tensor2<dim>             Gi = identity<dim>(), Li = identity<dim>();
+        if (consistent)
+        {
+          Gi = G[i];
+          Li = L[i];
+        }
+        geometry::Vec<dim> diag_g = geometry::Vec<dim>::zero(), s = geometry::Vec<dim>::zero();
+        double             diag_l = 0;
+        int                kd     = -1;
+        for (int k = k0; k < k1; ++k)
+        {
+          const int j = indices[k];
+          if (j == i)
+          {
+            kd = k;
+            continue;
+          }
+          const Pair<dim> p(box, W, xi, x[j]);
+          if (p.dist <= 0)
+          {
+            for (int d = 0; d < dim; ++d)
+              grad[d][k] = 0;
+            lap[k] = 0;
+            continue;
+          }
+          // gradient, Eq. 36–39 / 22: V_j (G) ∇_i W_ij
+          geometry::Vec<dim> v;
+          for (int d = 0; d < dim; ++d)
+          {
+            double gd = p.gradW[d];
+            if (consistent)
+            {
+              gd = 0;
+              for (int q = 0; q < dim; ++q)
+                gd += Gi.a[d][q] * p.gradW[q];
+            }
+            v[d]       = V[j] * gd;
+            grad[d][k] = v[d];
+          }
+          diag_g -= v;
+          // Laplacian, Eq. 29 / 23: c = 2 V_j (e·∇W) or 2 V_j (L : e ⊗ ∇W)
+          double c = 0;
+          if (consistent)
+          {
+            for (int o = 0; o < dim; ++o)
+              for (int q = 0; q < dim; ++q)
+                c += Li.a[o][q] * p.e[o] * p.gradW[q];
+          }
+          else
+            c = geometry::dot(p.e, p.gradW);
+          c *= 2.0 * V[j];
+          lap[k] = -c / p.dist;
+          diag_l += c / p.dist;
+          if (consistent)
+            s += c * p.e;
+        }
+        if (kd >= 0)
+        {
+          for (int d = 0; d < dim; ++d)
+            grad[d][kd] = diag_g[d];
+          lap[kd] = diag_l;
+        }
+        // Eq. 23's −Σ_j c_j e_ij · ∇f_i with ∇f_i = (A^G f)_i: subtract s · A^G_ik
+        if (consistent)
+          for (int k = k0; k < k1; ++k)
+          {
+            double t = 0;
+            for (int d = 0; d < dim; ++d)
+              t += s[d] * grad[d][k];
+            lap[k] -= t;
+          }
+      }
+    };
+  } // namespace operators_detail
+
+  template <int dim>
+  void compute_volumes(const dvec<Vec<dim>> &x, const NeighborList &nl, const DomainBox<dim> &box,
+                       const CubicSpline<dim> &W, dvec<double> &V)
+  {
+    const int n = static_cast<int>(x.size());
+    V.resize(n);
+    if (n == 0)
+      return;
+    operators_detail::VolumeF<dim> f{ptr(x), ptr(nl.offsets), ptr(nl.indices), box, W, ptr(V)};
+    thrust::counting_iterator<int> first(0);
+    thrust::for_each(exec, first, first + n, f);
+  }
+
+  template <int dim>
+  int compute_corrections(const dvec<Vec<dim>> &x, const dvec<double> &V, const NeighborList &nl,
+                          const DomainBox<dim> &box, const CubicSpline<dim> &W, dvec<Tensor2<dim>> &G,
+                          dvec<Tensor2<dim>> &L)
+  {
+    const int n = static_cast<int>(x.size());
+    G.resize(n);
+    L.resize(n);
+    if (n == 0)
+      return 0;
+    dvec<int>                           fallback(n);
+    operators_detail::CorrectionF<dim> f{ptr(x), ptr(V), ptr(nl.offsets), ptr(nl.indices), box, W,
+                                         ptr(G), ptr(L), ptr(fallback)};
+    thrust::counting_iterator<int> first(0);
+    thrust::for_each(exec, first, first + n, f);
+    return thrust::reduce(exec, fallback.begin(), fallback.end(), 0);
+  }
+
+  template <int dim>
+  void assemble_operators(const dvec<Vec<dim>> &x, const dvec<double> &V, const NeighborList &nl,
+                          const DomainBox<dim> &box, const CubicSpline<dim> &W, const OperatorKind kind,
+                          const dvec<Tensor2<dim>> &G, const dvec<Tensor2<dim>> &L, OperatorMatrices<dim> &A)
+  {
+    const int         n         = static_cast<int>(x.size());
+    const std::size_t n_entries = nl.indices.size();
+    for (int d = 0; d < dim; ++d)
+      A.gradient[d].resize(n_entries);
+    A.laplacian.resize(n_entries);
+    if (n == 0)
+      return;
+    operators_detail::AssembleF<dim> f(W);
+    f.x          = ptr(x);
+    f.V          = ptr(V);
+    f.offsets    = ptr(nl.offsets);
+    f.indices    = ptr(nl.indices);
+    f.box        = box;
+    f.consistent = kind == OperatorKind::consistent;
+    f.G          = f.consistent ? ptr(G) : nullptr;
+    f.L          = f.consistent ? ptr(L) : nullptr;
+    for (int d = 0; d < dim; ++d)
+      f.grad[d] = ptr(A.gradient[d]);
+    f.lap = ptr(A.laplacian);
+    thrust::counting_iterator<int> first(0);
+    thrust::for_each(exec, first, first + n, f);
+  }
+
+#define TWINFLOW_SPH_OPERATORS_INSTANTIATE(dim)                                                              \
+  template void compute_volumes<dim>(const dvec<Vec<dim>> &, const NeighborList &, const DomainBox<dim> &,   \
+                                     const CubicSpline<dim> &, dvec<double> &);                              \
+  template int  compute_corrections<dim>(const dvec<Vec<dim>> &, const dvec<double> &, const NeighborList &, \
+                                        const DomainBox<dim> &, const CubicSpline<dim> &,                   \
+                                        dvec<Tensor2<dim>> &, dvec<Tensor2<dim>> &);                        \
+  template void assemble_operators<dim>(const dvec<Vec<dim>> &, const dvec<double> &, const NeighborList &,  \
+                                        const DomainBox<dim> &, const CubicSpline<dim> &, OperatorKind,      \
+                                        const dvec<Tensor2<dim>> &, const dvec<Tensor2<dim>> &,              \
+                                        OperatorMatrices<dim> &);
+  TWINFLOW_SPH_OPERATORS_INSTANTIATE(2)
+  TWINFLOW_SPH_OPERATORS_INSTANTIATE(3)
+#undef TWINFLOW_SPH_OPERATORS_INSTANTIATE
+} // namespace twinflow::sph::TWINFLOW_SPH_BACKEND
