@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <sstream>
 
 namespace twinflow
@@ -153,6 +154,9 @@ namespace twinflow
     prm.declare_entry("Drag coefficient", "", Patterns::Anything(), "Reference C_d (empty: none).");
     prm.declare_entry("Lift coefficient", "", Patterns::Anything(), "Reference C_l (empty: none).");
     prm.declare_entry("Pressure difference", "", Patterns::Anything(), "Reference p(probe 1) - p(probe 2).");
+    prm.declare_entry("Front position file", "", Patterns::Anything(),
+                      "CSV with columns T, Z (Martin & Moyce scaling: Z = x_front / a, T = t sqrt(2 g / a), "
+                      "a = Monitors/Reference length); relative paths are relative to the scene file. Empty: none.");
     prm.leave_subsection();
   }
 
@@ -326,6 +330,16 @@ namespace twinflow
     s.reference_drag                = optional_number(prm, "Drag coefficient", "References");
     s.reference_lift                = optional_number(prm, "Lift coefficient", "References");
     s.reference_pressure_difference = optional_number(prm, "Pressure difference", "References");
+    const std::string front_file    = prm.get("Front position file");
+    if (!front_file.empty())
+    {
+      const auto slash = file.find_last_of('/');
+      s.reference_front_file =
+        front_file[0] == '/' || slash == std::string::npos ? front_file : file.substr(0, slash + 1) + front_file;
+      std::ifstream probe(s.reference_front_file);
+      require(bool(probe), "References/Front position file", front_file,
+              "an existing CSV file (looked for " + s.reference_front_file + ")");
+    }
     prm.leave_subsection();
 
     if (s.geometry == "channel with cylinder")

@@ -1,4 +1,4 @@
-#include "particle_setup.h"
+#include <twinflow/sph/particle_setup.h>
 
 #include <twinflow/core/errors.h>
 #include <twinflow/geometry/geometry.h>

@@ -1,4 +1,4 @@
-#include "particle_setup.h"
+#include <twinflow/sph/particle_setup.h>
 
 #include <twinflow/core/errors.h>
 #include <twinflow/io/csv_monitor.h>
@@ -6,6 +6,7 @@
 #include <twinflow/io/particle_output.h>
 #include <twinflow/io/progress.h>
 #include <twinflow/io/pvd_series.h>
+#include <twinflow/io/reference_data.h>
 #include <twinflow/io/summary.h>
 #include <twinflow/sph/sph_simulation.h>
 
@@ -83,6 +84,7 @@ namespace twinflow::sph
       for (int d = 0; d < dim; ++d)
         m0 *= prm.spacing;
 
+      std::vector<double> front_t, front_x;
       auto monitors = [&](double t, double dt, const StepReport *r) {
         engine->get_particles(P);
         double ek = 0, ep = 0, xf = -1e300;
@@ -101,6 +103,8 @@ namespace twinflow::sph
           }
         energy.append({t, ek, ep, ek + ep});
         front.append({t, xf, engine->max_fluid_speed()});
+        front_t.push_back(t);
+        front_x.push_back(xf);
         if (r)
           solver.append({t, dt, double(r->velocity[0].iterations), double(r->pressure.iterations), r->pressure.residual,
                          double(r->free_surface_particles)});
@@ -180,6 +184,18 @@ namespace twinflow::sph
       summary.set_wall_time(result.wall_time);
       for (const auto &[k, v] : result.timings)
         summary.set_timer_section(k, v, result.steps);
+      if (!scene.reference_front_file.empty())
+      {
+        // Martin & Moyce scaling: t = T / sqrt(2 g / a), x_f = Z a.
+        const double a     = scene.reference_length;
+        const double g     = std::sqrt(scene.gravity[0] * scene.gravity[0] + scene.gravity[1] * scene.gravity[1] +
+                                       scene.gravity[2] * scene.gravity[2]);
+        const auto   ref   = io::ReferenceSeries::from_csv(scene.reference_front_file, "T", "Z",
+                                                           1.0 / std::sqrt(2 * g / a), a);
+        const auto   error = io::compare_series(front_t, front_x, ref);
+        summary.add_series_error("front position x_f(t)", error, 0.05, "Martin & Moyce (1952), n^2 = 2");
+        result.monitors["front rms relative error"] = error.rms_relative_error;
+      }
       summary.set_monitor_values(result.monitors);
       summary.set_extra("fluid particles", result.fluid_particles);
       summary.set_extra("BCE markers", result.markers);

@@ -17,6 +17,8 @@
 #include <thrust/functional.h>
 
 #include <chrono>
+#include <stdexcept>
+#include <string>
 
 namespace twinflow::sph::TWINFLOW_SPH_BACKEND
 {
@@ -158,13 +160,19 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
 
       // 3. ∇·u* (Eq. 41) and the pressure Poisson equation, Eq. 53/55/57 + BCE rows
       thrust::fill(exec, div_u.begin(), div_u.end(), 0.0);
+      const bool neumann = settings.pressure_wall == PressureWall::neumann;
+      u_cont.resize(n);
+      if (neumann)
+        thrust::copy(exec, u.begin(), u.end(), u_cont.begin()); // Chorin: mirrored wall velocity, ∂p/∂n = 0
+      else
+        thrust::for_each(exec, first, last,
+                         detail::ContinuityVelocity<dim>{ptr(kind), ptr(support), ptr(u), ptr(wall_velocity), ptr(u_cont)});
       for (int c = 0; c < dim; ++c)
       {
-        thrust::transform(exec, u.begin(), u.end(), comp.begin(), detail::ExtractComponent<dim>{c});
+        thrust::transform(exec, u_cont.begin(), u_cont.end(), comp.begin(), detail::ExtractComponent<dim>{c});
         spmv(nl.offsets, nl.indices, A.gradient[c], comp, tmp);
         thrust::transform(exec, div_u.begin(), div_u.end(), tmp.begin(), div_u.begin(), thrust::plus<double>());
       }
-      const bool neumann = settings.pressure_wall == PressureWall::neumann;
       detail::PressureMatrix<dim> pm{ptr(x), ptr(normal), ptr(kind), ptr(nl.offsets), ptr(nl.indices), ptr(surface),
                                      ptr(A.laplacian), ptr(support), {}, box, W, 1.0 / settings.rho0, neumann, pinned,
                                      ptr(values)};
@@ -222,7 +230,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     NeighborList       nl;
     OperatorMatrices<dim> A;
     dvec<Tensor2<dim>> G, L;
-    dvec<Vec<dim>>     x, u, wall_velocity, wall_acceleration, normal;
+    dvec<Vec<dim>>     x, u, u_cont, wall_velocity, wall_acceleration, normal;
     dvec<double>       pressure, rho, support, V, rhs, tmp, comp, div_u, values, grad_p[dim];
     dvec<int>          kind, surface;
     double             m0 = 0;
@@ -233,6 +241,15 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
   template <int dim>
   std::unique_ptr<Engine<dim>> create_engine(const DomainBox<dim> &box, const EngineSettings &settings)
   {
+    try
+    {
+      dvec<int> probe(1); // fails here if the backend's device is unusable (e.g. no GPU)
+    }
+    catch (const std::exception &e)
+    {
+      throw std::runtime_error(std::string("SPH backend '") + backend_name() +
+                               "' cannot allocate device memory (no usable device?): " + e.what());
+    }
     return std::make_unique<BackendEngine<dim>>(box, settings);
   }
 

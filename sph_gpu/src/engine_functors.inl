@@ -153,10 +153,13 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
           rhs[i] = 0;
           return;
         }
-        // Eq. 53: ρ* = ρ^n − Δt ρ^n ∇·u*; Eq. 55/57 with the density-invariance term
-        // measured against the rest density (Asai et al. 2012).
+        // Eq. 53: ρ* = ρ^n − Δt ρ^n ∇·u*. Eq. 55/57 with the density-invariance term measured
+        // against the rest density (Asai et al. 2012) — with ρ^n itself it would equal the
+        // divergence term exactly. Only compression (ρ* > ρ0) is corrected: summation
+        // densities below ρ0 near a free surface are a kernel deficit, not an expansion.
         const double rho_star = rho[i] - dt * rho[i] * div_u[i];
-        rhs[i] = alpha * (rho0 - rho_star) / (rho0 * dt * dt) + (1.0 - alpha) * div_u[i] / dt;
+        const double deficit  = rho0 - rho_star < 0.0 ? rho0 - rho_star : 0.0;
+        rhs[i] = alpha * deficit / (rho0 * dt * dt) + (1.0 - alpha) * div_u[i] / dt;
         return;
       }
       if (support[i] <= 0 || neumann)
@@ -201,6 +204,29 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
       for (int d = 0; d < dim; ++d)
         x[i][d] += dt * u[i][d];
       x[i] = box.wrap(x[i]);
+    }
+  };
+
+  /// Velocity seen by the continuity source of the pressure equation: fluid u*, and for BCE
+  /// markers the fluid's Shepard extrapolation ũ_a = 2u^p_a − u_a (Eq. 59–60) rather than the
+  /// mirrored value: with the force-balance pressure rows (Eq. 64) the wall already balances
+  /// ρ(g − a^p)·n, so a mirrored normal velocity would count the wall's reaction twice.
+  template <int dim>
+  struct ContinuityVelocity
+  {
+    const int      *kind;
+    const double   *support;
+    const Vec<dim> *u, *wall_velocity;
+    Vec<dim>       *out;
+    TWINFLOW_HD void operator()(int i) const
+    {
+      if (kind[i] == ParticleKind::fluid)
+        out[i] = u[i];
+      else if (support[i] > 0)
+        for (int d = 0; d < dim; ++d)
+          out[i][d] = 2.0 * wall_velocity[i][d] - u[i][d];
+      else
+        out[i] = wall_velocity[i];
     }
   };
 

@@ -78,6 +78,9 @@ namespace twinflow
     std::vector<std::array<double, 3>> pressure_probes;
     double reference_velocity = 1, reference_length = 1;
     std::optional<double> reference_drag, reference_lift, reference_pressure_difference;
+    /// Martin & Moyce style front table (columns T, Z = x_f/a at T = t sqrt(2g/a), a = Reference
+    /// length); absolute path, or empty.
+    std::string reference_front_file;
 
     bool has_free_surface() const { return fluids.size() > 1; }
     bool has_solids() const { return !solids.empty(); }
