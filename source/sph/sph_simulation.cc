@@ -151,9 +151,12 @@ namespace twinflow::sph
         result.timings["velocity solve"] += r.t_velocity;
         result.timings["pressure solve"] += r.t_pressure;
         result.timings["correction and update"] += r.t_update;
-        if (!std::isfinite(r.max_speed) || !std::isfinite(r.pressure.residual))
+        if (!std::isfinite(r.max_speed) || !std::isfinite(r.pressure.residual) ||
+            (!r.pressure.converged && r.pressure.residual > 1e-3) || dt < 1e-10 * scene.end_time)
           throw std::runtime_error("SPH solution diverged at t = " + std::to_string(t) + " (step " +
-                                   std::to_string(result.steps) + "): reduce SPH/Time step or CFL number. Monitors so far are in " + dir);
+                                   std::to_string(result.steps) + "; pressure residual " + std::to_string(r.pressure.residual) +
+                                   ", max speed " + std::to_string(r.max_speed) +
+                                   " m/s): reduce SPH/Time step or CFL number. Monitors so far are in " + dir);
         dealii::Timer out_timer;
         monitors(t, dt, &r);
         if (scene.output_interval > 0 && t >= next_output * (1 - 1e-9))
