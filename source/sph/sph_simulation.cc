@@ -14,6 +14,7 @@
 #include <deal.II/base/timer.h>
 
 #include <cmath>
+#include <fstream>
 #include <iostream>
 #include <sstream>
 
@@ -153,10 +154,24 @@ namespace twinflow::sph
         result.timings["correction and update"] += r.t_update;
         if (!std::isfinite(r.max_speed) || !std::isfinite(r.pressure.residual) ||
             (!r.pressure.converged && r.pressure.residual > 1e-3) || dt < 1e-10 * scene.end_time)
+        {
+          // Keep the last good state for diagnosis (P still holds the previous step).
+          std::ofstream dump(dir + "/last_good_state.csv");
+          dump << "# twinflow: SPH particles at the last step before divergence\nx,y,z,u,v,w,p,rho,kind\n";
+          for (std::size_t i = 0; i < P.size(); ++i)
+          {
+            for (int d = 0; d < 3; ++d)
+              dump << (d < dim ? P.x[i][d] : 0.0) << ",";
+            for (int d = 0; d < 3; ++d)
+              dump << (d < dim ? P.u[i][d] : 0.0) << ",";
+            dump << P.p[i] << "," << P.rho[i] << "," << P.kind[i] << "\n";
+          }
           throw std::runtime_error("SPH solution diverged at t = " + std::to_string(t) + " (step " +
                                    std::to_string(result.steps) + "; pressure residual " + std::to_string(r.pressure.residual) +
                                    ", max speed " + std::to_string(r.max_speed) +
-                                   " m/s): reduce SPH/Time step or CFL number. Monitors so far are in " + dir);
+                                   " m/s): reduce SPH/Time step or CFL number. Monitors so far and the last good "
+                                   "particle state (last_good_state.csv) are in " + dir);
+        }
         dealii::Timer out_timer;
         monitors(t, dt, &r);
         if (scene.output_interval > 0 && t >= next_output * (1 - 1e-9))

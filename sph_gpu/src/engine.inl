@@ -145,6 +145,12 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
                                                    ptr(values)});
       report.t_assembly = clock.lap();
 
+      // fluid velocity at t^n extrapolated to the markers (approach velocity, see ContinuityVelocity)
+      u_approach.resize(n);
+      thrust::for_each(exec, first, last,
+                       detail::ExtrapolateToMarkers<dim>{ptr(x), ptr(u), ptr(kind), ptr(nl.offsets), ptr(nl.indices),
+                                                         ptr(support), box, W, ptr(u_approach)});
+
       // 2. velocity prediction, Eq. 56 (one solve per component, same matrix)
       for (int c = 0; c < dim; ++c)
       {
@@ -166,7 +172,8 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
         thrust::copy(exec, u.begin(), u.end(), u_cont.begin()); // Chorin: mirrored wall velocity, ∂p/∂n = 0
       else
         thrust::for_each(exec, first, last,
-                         detail::ContinuityVelocity<dim>{ptr(kind), ptr(support), ptr(u), ptr(wall_velocity), ptr(u_cont)});
+                         detail::ContinuityVelocity<dim>{ptr(kind), ptr(support), ptr(u), ptr(wall_velocity), ptr(u_approach),
+                                                        ptr(normal), ptr(u_cont)});
       for (int c = 0; c < dim; ++c)
       {
         thrust::transform(exec, u_cont.begin(), u_cont.end(), comp.begin(), detail::ExtractComponent<dim>{c});
@@ -189,7 +196,8 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       report.t_pressure = clock.lap();
 
       // 4. correction, Eq. 58, and position update
-      detail::CorrectAndMove<dim> cm{ptr(kind), {}, ptr(wall_velocity), box, dt, 1.0 / settings.rho0, ptr(x), ptr(u)};
+      detail::CorrectAndMove<dim> cm{ptr(kind), {}, ptr(wall_velocity), box, dt, 1.0 / settings.rho0, 0.25 * settings.spacing,
+                                     ptr(x), ptr(u)};
       for (int d = 0; d < dim; ++d)
       {
         spmv(nl.offsets, nl.indices, A.gradient[d], pressure, grad_p[d]);
@@ -230,7 +238,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     NeighborList       nl;
     OperatorMatrices<dim> A;
     dvec<Tensor2<dim>> G, L;
-    dvec<Vec<dim>>     x, u, u_cont, wall_velocity, wall_acceleration, normal;
+    dvec<Vec<dim>>     x, u, u_cont, u_approach, wall_velocity, wall_acceleration, normal;
     dvec<double>       pressure, rho, support, V, rhs, tmp, comp, div_u, values, grad_p[dim];
     dvec<int>          kind, surface;
     double             m0 = 0;

@@ -190,7 +190,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
     const double *grad_p[dim];
     const Vec<dim> *wall_velocity;
     DomainBox<dim> box;
-    double        dt, inv_rho0;
+    double        dt, inv_rho0, margin;
     Vec<dim>     *x, *u;
     TWINFLOW_HD void operator()(int i) const
     {
@@ -203,28 +203,89 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
         u[i][d] -= dt * inv_rho0 * grad_p[d][i];
       for (int d = 0; d < dim; ++d)
         x[i][d] += dt * u[i][d];
+      // Last-resort no-penetration of the domain walls: a fluid particle never enters the BCE
+      // layers (whose pressure rows cannot push it back once inside).
+      for (int d = 0; d < dim; ++d)
+        if (!box.periodic[d])
+        {
+          if (x[i][d] < box.lower[d] + margin)
+          {
+            x[i][d] = box.lower[d] + margin;
+            u[i][d] = u[i][d] < 0 ? 0.0 : u[i][d];
+          }
+          else if (x[i][d] > box.upper[d] - margin)
+          {
+            x[i][d] = box.upper[d] - margin;
+            u[i][d] = u[i][d] > 0 ? 0.0 : u[i][d];
+          }
+        }
       x[i] = box.wrap(x[i]);
     }
   };
 
-  /// Velocity seen by the continuity source of the pressure equation: fluid u*, and for BCE
-  /// markers the fluid's Shepard extrapolation ũ_a = 2u^p_a − u_a (Eq. 59–60) rather than the
-  /// mirrored value: with the force-balance pressure rows (Eq. 64) the wall already balances
-  /// ρ(g − a^p)·n, so a mirrored normal velocity would count the wall's reaction twice.
+  /// Shepard extrapolation of the fluid velocity to BCE markers, ũ_a = Σ_F u_b W_ab / Σ_F W_ab
+  /// (Eq. 60); fluid particles and markers without fluid neighbours get their own velocity.
+  template <int dim>
+  struct ExtrapolateToMarkers
+  {
+    const Vec<dim> *x, *u;
+    const int      *kind, *offsets, *indices;
+    const double   *support;
+    DomainBox<dim>  box;
+    CubicSpline<dim> W;
+    Vec<dim>       *out;
+    TWINFLOW_HD void operator()(int i) const
+    {
+      if (kind[i] == ParticleKind::fluid || support[i] <= 0)
+      {
+        out[i] = u[i];
+        return;
+      }
+      Vec<dim> s = Vec<dim>::zero();
+      for (int k = offsets[i]; k < offsets[i + 1]; ++k)
+      {
+        const int j = indices[k];
+        if (kind[j] != ParticleKind::fluid || j == i)
+          continue;
+        const double w = W.value(geometry::norm(box.difference(x[i], x[j])));
+        for (int d = 0; d < dim; ++d)
+          s[d] += w * u[j][d];
+      }
+      for (int d = 0; d < dim; ++d)
+        out[i][d] = s[d] / support[i];
+    }
+  };
+
+  /// Velocity seen by the continuity source of the pressure equation. Fluid: u*. BCE markers:
+  /// the fluid's extrapolated ũ*_a = 2u^p_a − u_a (Eq. 59–60), with the normal component of
+  /// the fluid's *approach* velocity at t^n, (ũ^n_a − u^p_a)·n, mirrored. The force-balance
+  /// pressure rows (Eq. 64) already carry the wall's reaction to ρ(g − a^p); mirroring all of
+  /// u* would count it twice (12 % hydrostatic error), mirroring nothing lets particles that
+  /// move towards the wall pass through it.
   template <int dim>
   struct ContinuityVelocity
   {
     const int      *kind;
     const double   *support;
-    const Vec<dim> *u, *wall_velocity;
+    const Vec<dim> *u, *wall_velocity, *approach, *normal;
     Vec<dim>       *out;
     TWINFLOW_HD void operator()(int i) const
     {
       if (kind[i] == ParticleKind::fluid)
         out[i] = u[i];
       else if (support[i] > 0)
+      {
+        double un = 0, nn = 0;
         for (int d = 0; d < dim; ++d)
-          out[i][d] = 2.0 * wall_velocity[i][d] - u[i][d];
+        {
+          un += (approach[i][d] - wall_velocity[i][d]) * normal[i][d];
+          nn += normal[i][d] * normal[i][d];
+        }
+        un = nn > 0 ? un / nn : 0.0;
+        const double toward = un < 0 ? un : 0.0; // only motion into the wall
+        for (int d = 0; d < dim; ++d)
+          out[i][d] = 2.0 * wall_velocity[i][d] - u[i][d] - 2.0 * toward * normal[i][d];
+      }
       else
         out[i] = wall_velocity[i];
     }
