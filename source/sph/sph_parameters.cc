@@ -27,6 +27,8 @@ namespace twinflow::sph
                       "BCE markers' pressure rows: force balance (Eq. 64-65) or zero normal gradient (Eq. 66-67).");
     prm.declare_entry("Free-surface density ratio", "0.95", Patterns::Double(0, 1),
                       "Fluid particles with summation density below ratio * rho0 are free-surface particles (p = 0).");
+    prm.declare_entry("Particle shifting", "0", Patterns::Double(0, 10),
+                      "Coefficient A of Fickian particle shifting (dr = -A h |u| dt grad C, Lind et al. 2012); 0: off.");
     prm.declare_entry("Time step", "1e-3", Patterns::Double(0), "Maximum time step [s], > 0.");
     prm.declare_entry("CFL number", "0.2", Patterns::Double(0),
                       "dt <= CFL h / max(|u|_max, Monitors/Reference velocity); 0: fixed step.");
@@ -46,6 +48,7 @@ namespace twinflow::sph
     alpha         = prm.get_double("Alpha");
     neumann_walls = prm.get("Wall pressure condition") == "neumann";
     free_surface_ratio = prm.get_double("Free-surface density ratio");
+    shifting           = prm.get_double("Particle shifting");
     time_step = prm.get_double("Time step");
     require(time_step > 0, "SPH/Time step", prm.get("Time step"), "the time step must be > 0");
     cfl              = prm.get_double("CFL number");

@@ -49,6 +49,7 @@ namespace twinflow::sph
       s.pressure_wall      = prm.neumann_walls ? PressureWall::neumann : PressureWall::bce;
       s.free_surface_ratio = prm.free_surface_ratio;
       s.free_surface       = scene.fluid_region.has_value();
+      s.shifting           = prm.shifting;
       for (int d = 0; d < dim; ++d)
       {
         s.acceleration[d] = scene.gravity[d] + scene.body_force[d];
@@ -153,7 +154,8 @@ namespace twinflow::sph
         result.timings["pressure solve"] += r.t_pressure;
         result.timings["correction and update"] += r.t_update;
         if (!std::isfinite(r.max_speed) || !std::isfinite(r.pressure.residual) ||
-            (!r.pressure.converged && r.pressure.residual > 1e-3) || dt < 1e-10 * scene.end_time)
+            (!r.pressure.converged && r.pressure.residual > 1e-3) || dt < 1e-10 * scene.end_time ||
+            r.max_speed > 50 * u_ref)
         {
           // Keep the last good state for diagnosis (P still holds the previous step).
           std::ofstream dump(dir + "/last_good_state.csv");

@@ -77,6 +77,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     {
       n = static_cast<int>(p.size());
       x.assign(p.x.begin(), p.x.end());
+      x_start.resize(p.x.size());
       u.assign(p.u.begin(), p.u.end());
       pressure.assign(p.p.begin(), p.p.end());
       kind.assign(p.kind.begin(), p.kind.end());
@@ -203,7 +204,14 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
         spmv(nl.offsets, nl.indices, A.gradient[d], pressure, grad_p[d]);
         cm.grad_p[d] = ptr(grad_p[d]);
       }
+      if (settings.shifting > 0)
+        thrust::copy(exec, x.begin(), x.end(), x_start.begin());
       thrust::for_each(exec, first, last, cm);
+      if (settings.shifting > 0)
+        thrust::for_each(exec, first, last,
+                         detail::ShiftingDisplacement<dim>{ptr(x_start), ptr(u), ptr(kind), ptr(nl.offsets),
+                                                           ptr(nl.indices), ptr(surface), ptr(V), box, W,
+                                                           settings.shifting, dt, 0.1 * settings.spacing, ptr(x)});
       report.max_speed = max_fluid_speed();
       report.t_update  = clock.lap();
       return report;
@@ -238,7 +246,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     NeighborList       nl;
     OperatorMatrices<dim> A;
     dvec<Tensor2<dim>> G, L;
-    dvec<Vec<dim>>     x, u, u_cont, u_approach, wall_velocity, wall_acceleration, normal;
+    dvec<Vec<dim>>     x, x_start, u, u_cont, u_approach, wall_velocity, wall_acceleration, normal;
     dvec<double>       pressure, rho, support, V, rhs, tmp, comp, div_u, values, grad_p[dim];
     dvec<int>          kind, surface;
     double             m0 = 0;

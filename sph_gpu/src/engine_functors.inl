@@ -291,6 +291,51 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
     }
   };
 
+  /// Fickian particle shifting (Lind et al. 2012, Skillen et al. 2013): interior fluid particles
+  /// move by δr = −D ∇C, ∇C_i = Σ_j V_j ∇_i W_ij, D = A h |u_i| Δt (A = coefficient); it keeps
+  /// the distribution near-isotropic, which the consistent operators need in violent flows.
+  /// Free-surface particles are not shifted (their ∇C points out of the fluid). Positions are
+  /// taken at the start of the step (the neighbour lists are those of the step).
+  template <int dim>
+  struct ShiftingDisplacement
+  {
+    const Vec<dim> *x0, *u;
+    const int      *kind, *offsets, *indices, *surface;
+    const double   *V;
+    DomainBox<dim>  box;
+    CubicSpline<dim> W;
+    double          coefficient, dt, max_shift;
+    Vec<dim>       *x;
+    TWINFLOW_HD void operator()(int i) const
+    {
+      if (kind[i] != ParticleKind::fluid || surface[i])
+        return;
+      Vec<dim> gradC = Vec<dim>::zero();
+      for (int k = offsets[i]; k < offsets[i + 1]; ++k)
+      {
+        const int j = indices[k];
+        if (j == i)
+          continue;
+        const Vec<dim> g = W.gradient(box.difference(x0[i], x0[j]));
+        for (int d = 0; d < dim; ++d)
+          gradC[d] += V[j] * g[d];
+      }
+      const double D = coefficient * W.h * geometry::norm(u[i]) * dt;
+      Vec<dim>     dr;
+      double       len = 0;
+      for (int d = 0; d < dim; ++d)
+      {
+        dr[d] = -D * gradC[d];
+        len += dr[d] * dr[d];
+      }
+      len = sqrt(len);
+      const double scale = len > max_shift ? max_shift / len : 1.0;
+      for (int d = 0; d < dim; ++d)
+        x[i][d] += scale * dr[d];
+      x[i] = box.wrap(x[i]);
+    }
+  };
+
   /// |u_i| for fluid particles, 0 otherwise (max reduction).
   template <int dim>
   struct FluidSpeed

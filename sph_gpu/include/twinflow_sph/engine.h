@@ -32,6 +32,7 @@ namespace twinflow::sph
     PressureWall       pressure_wall = PressureWall::bce;
     double             free_surface_ratio = 0.95; ///< fluid with ρ_i < ratio ρ0 gets p = 0
     bool               free_surface = true;       ///< false: no p = 0 particles (confined flow)
+    double             shifting     = 0;          ///< particle-shifting coefficient A (0: off)
     std::array<double, 3> acceleration{{0, 0, 0}}; ///< gravity + body force
     std::array<double, 3> gravity{{0, 0, 0}};      ///< g of Eq. 61/64
     SolverSettings     velocity_solver, pressure_solver;
