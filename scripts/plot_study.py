@@ -12,24 +12,14 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-
-def read(path):
-    header, rows = None, []
-    with open(path) as f:
-        for line in f:
-            line = line.strip()
-            if not line or line.startswith("#"):
-                continue
-            if header is None:
-                header = [h.split(" [")[0] for h in line.split(",")]
-                continue
-            rows.append([float(v) for v in line.split(",")])
-    return header, rows
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from twinflow_csv import read  # noqa: E402
 
 
 def main():
     path = sys.argv[1]
     header, rows = read(path)
+    header = [h.split(" [")[0] for h in header]
     col = {name: i for i, name in enumerate(header)}
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.5))
     for name in header:

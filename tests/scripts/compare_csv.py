@@ -5,21 +5,11 @@ usage: compare_csv.py A.csv B.csv RTOL
 Every value must agree to RTOL relative to the column's largest magnitude
 (absolute floor: RTOL times that scale). Prints the worst deviation per column.
 """
+import os
 import sys
 
-
-def read(path):
-    header, rows = None, []
-    with open(path) as f:
-        for line in f:
-            line = line.strip()
-            if not line or line.startswith("#"):
-                continue
-            if header is None:
-                header = line.split(",")
-                continue
-            rows.append([float(v) for v in line.split(",")])
-    return header, rows
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts"))
+from twinflow_csv import read  # noqa: E402,F401  (re-exported for the other checks)
 
 
 def main():
