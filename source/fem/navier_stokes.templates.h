@@ -118,6 +118,7 @@ namespace twinflow::fem
   void NavierStokes<dim>::setup()
   {
     TimerOutput::Scope scope(timer_output, "setup");
+    force_dofs.clear();
     velocity_dofs.distribute_dofs(fe_velocity);
     pressure_dofs.distribute_dofs(fe_pressure);
     DoFRenumbering::Cuthill_McKee(velocity_dofs);

@@ -18,7 +18,10 @@ namespace twinflow::fem
     TimerOutput::Scope scope(timer_output, "forces");
     // ψ_d = Σ_{i on boundary id, component d} φ_i equals e_d on the boundary and vanishes on
     // the others; F_d = −R(u, p; ψ_d) is the force the fluid exerts on that boundary.
-    const IndexSet on_body = DoFTools::extract_boundary_dofs(velocity_dofs, ComponentMask(), {id});
+    auto cached = force_dofs.find(id);
+    if (cached == force_dofs.end())
+      cached = force_dofs.emplace(id, DoFTools::extract_boundary_dofs(velocity_dofs, ComponentMask(), {id})).first;
+    const IndexSet &on_body = cached->second;
     const QGauss<dim> quad(fe_velocity.degree + 1);
     FEValues<dim> fev(mapping, fe_velocity, quad,
                       update_values | update_gradients | update_JxW_values | update_quadrature_points);

@@ -39,24 +39,7 @@ namespace twinflow::sph
       result.fluid_particles = make_particles<dim>(scene, prm.spacing, layers, fluid.density, P);
       result.markers         = P.size() - result.fluid_particles;
 
-      EngineSettings s;
-      s.spacing    = prm.spacing;
-      s.h          = h;
-      s.rho0       = fluid.density;
-      s.mu         = fluid.viscosity;
-      s.consistent = prm.consistent;
-      s.alpha      = prm.alpha;
-      s.pressure_wall      = prm.neumann_walls ? PressureWall::neumann : PressureWall::bce;
-      s.free_surface_ratio = prm.free_surface_ratio;
-      s.free_surface       = scene.fluid_region.has_value();
-      s.shifting           = prm.shifting;
-      for (int d = 0; d < dim; ++d)
-      {
-        s.acceleration[d] = scene.gravity[d] + scene.body_force[d];
-        s.gravity[d]      = scene.gravity[d];
-      }
-      s.velocity_solver = {prm.max_iterations, prm.solver_tolerance};
-      s.pressure_solver = {prm.max_iterations, prm.solver_tolerance};
+      const EngineSettings s = make_engine_settings(scene, prm);
       auto engine = make_engine<dim>(prm.backend, domain_box<dim>(scene), s);
       engine->set_particles(P);
 
@@ -228,6 +211,30 @@ namespace twinflow::sph
       return result;
     }
   } // namespace
+
+  EngineSettings make_engine_settings(const Scene &scene, const SphParameters &prm)
+  {
+    const Fluid   &fluid = scene.fluids.front();
+    EngineSettings s;
+    s.spacing            = prm.spacing;
+    s.h                  = prm.h_over_dx * prm.spacing;
+    s.rho0               = fluid.density;
+    s.mu                 = fluid.viscosity;
+    s.consistent         = prm.consistent;
+    s.alpha              = prm.alpha;
+    s.pressure_wall      = prm.neumann_walls ? PressureWall::neumann : PressureWall::bce;
+    s.free_surface_ratio = prm.free_surface_ratio;
+    s.free_surface       = scene.fluid_region.has_value();
+    s.shifting           = prm.shifting;
+    for (int d = 0; d < 3; ++d)
+    {
+      s.acceleration[d] = scene.gravity[d] + scene.body_force[d];
+      s.gravity[d]      = scene.gravity[d];
+    }
+    s.velocity_solver = {prm.max_iterations, prm.solver_tolerance};
+    s.pressure_solver = {prm.max_iterations, prm.solver_tolerance};
+    return s;
+  }
 
   SphRunResult run_sph_scene(const Scene &scene, const SphParameters &prm, const std::string &dir)
   {

@@ -2,6 +2,7 @@
 // profile u = f y (H − y) / (2ν) is approached with an error that falls with the spacing.
 #include <twinflow/core/scene.h>
 #include <twinflow/sph/particle_setup.h>
+#include <twinflow/sph/sph_simulation.h>
 #include <twinflow_sph/engine.h>
 
 #include <gtest/gtest.h>
@@ -28,16 +29,12 @@ namespace
     const double dx = H / n;
     HostParticles<2> P;
     make_particles<2>(scene, dx, 3, rho, P);
-    EngineSettings s;
-    s.spacing      = dx;
-    s.h            = 1.2 * dx;
-    s.rho0         = rho;
-    s.mu           = mu;
-    s.consistent   = consistent;
-    s.free_surface = false;
-    s.acceleration = {{f, 0, 0}};
-    s.velocity_solver = {2000, 1e-10};
-    s.pressure_solver = {2000, 1e-10};
+    scene.body_force = {{f, 0, 0}};
+    SphParameters prm;
+    prm.spacing          = dx;
+    prm.consistent       = consistent;
+    prm.solver_tolerance = 1e-10;
+    const EngineSettings s = make_engine_settings(scene, prm);
     auto engine = make_engine<2>("cpu", domain_box<2>(scene), s);
     engine->set_particles(P);
     // slowest viscous mode decays like exp(−π²ν t / H²), e-folding time 0.2 s: 1.6 s of

@@ -2,6 +2,7 @@
 // in the bulk is hydrostatic and the particles stay (nearly) at rest.
 #include <twinflow/core/scene.h>
 #include <twinflow/sph/particle_setup.h>
+#include <twinflow/sph/sph_simulation.h>
 #include <twinflow_sph/engine.h>
 
 #include <gtest/gtest.h>
@@ -36,16 +37,12 @@ namespace
     const double dx = 0.02, H = 0.4, rho = 1000, g = 9.8;
     HostParticles<2> P;
     make_particles<2>(scene, dx, 3, rho, P);
-    EngineSettings s;
-    s.spacing      = dx;
-    s.h            = 1.2 * dx;
-    s.rho0         = rho;
-    s.mu           = 1e-3;
-    s.consistent   = consistent;
-    s.alpha        = alpha;
-    s.pressure_wall = walls;
-    s.acceleration = {{0, -g, 0}};
-    s.gravity      = {{0, -g, 0}};
+    SphParameters prm;
+    prm.spacing    = dx;
+    prm.consistent = consistent;
+    prm.alpha      = alpha;
+    prm.neumann_walls = walls == PressureWall::neumann;
+    const EngineSettings s = make_engine_settings(scene, prm);
     auto engine = make_engine<2>("cpu", domain_box<2>(scene), s);
     engine->set_particles(P);
     for (int k = 0; k < 500; ++k)

@@ -168,6 +168,9 @@ namespace twinflow::fem
     unsigned int step_number = 0;
     bool         have_history = false; ///< u^{n-1} is a real previous step
 
+    /// DoFs on each boundary whose force is asked for (found once per mesh, not per step).
+    mutable std::map<dealii::types::boundary_id, dealii::IndexSet> force_dofs;
+
     StepStatistics           stats;
     dealii::ConditionalOStream  silent_stream{std::cout, false};
     mutable dealii::TimerOutput timer_output;

@@ -7,6 +7,7 @@
  * monitors, ParaView output and a cost/accuracy summary. No CUDA or Thrust in this header.
  */
 #include <twinflow/core/scene.h>
+#include <twinflow_sph/engine.h>
 
 #include <deal.II/base/parameter_handler.h>
 
@@ -44,6 +45,9 @@ namespace twinflow::sph
     std::map<std::string, double> timings;   ///< seconds per phase (neighbours, assembly, solves, output)
     std::vector<std::string>      active_physics;
   };
+
+  /// The engine settings a scene and its SPH parameters call for (one place for the mapping).
+  EngineSettings make_engine_settings(const Scene &scene, const SphParameters &parameters);
 
   /// Runs @p scene with SPH (on MPI rank 0 of MPI_COMM_WORLD), writing into @p dir.
   SphRunResult run_sph_scene(const Scene &scene, const SphParameters &parameters, const std::string &dir);
