@@ -233,6 +233,7 @@ namespace twinflow::sph
     }
     s.velocity_solver = {prm.max_iterations, prm.solver_tolerance};
     s.pressure_solver = {prm.max_iterations, prm.solver_tolerance};
+    s.pressure_preconditioner = prm.multigrid ? PressurePreconditioner::multigrid : PressurePreconditioner::jacobi;
     return s;
   }
 

@@ -1,6 +1,7 @@
 // Implicit SPH engine (Algorithm 2) — the single source of both backends.
 #include <twinflow_sph/engine.h>
 #include <twinflow_sph/linear_solver.h>
+#include <twinflow_sph/multigrid.h>
 #include <twinflow_sph/neighbor_search.h>
 #include <twinflow_sph/operators.h>
 
@@ -193,7 +194,13 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       for (int d = 0; d < dim; ++d)
         pr.g[d] = settings.gravity[d];
       thrust::for_each(exec, first, last, pr);
-      report.pressure = bicgstab(nl.offsets, nl.indices, values, rhs, pressure, settings.pressure_solver);
+      if (settings.pressure_preconditioner == PressurePreconditioner::multigrid)
+      {
+        multigrid.setup(x, box, 2.0 * settings.h, nl.offsets, nl.indices, values);
+        report.pressure = bicgstab(nl.offsets, nl.indices, values, rhs, pressure, settings.pressure_solver, multigrid);
+      }
+      else
+        report.pressure = bicgstab(nl.offsets, nl.indices, values, rhs, pressure, settings.pressure_solver);
       report.t_pressure = clock.lap();
 
       // 4. correction, Eq. 58, and position update
@@ -245,6 +252,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     NeighborSearch<dim> search;
     NeighborList       nl;
     OperatorMatrices<dim> A;
+    CellMultigrid<dim> multigrid;
     dvec<Tensor2<dim>> G, L;
     dvec<Vec<dim>>     x, x_start, u, u_cont, u_approach, wall_velocity, wall_acceleration, normal;
     dvec<double>       pressure, rho, support, V, rhs, tmp, comp, div_u, values, grad_p[dim];

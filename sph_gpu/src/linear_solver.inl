@@ -1,4 +1,4 @@
-// CSR SpMV and right-Jacobi-preconditioned BiCGStab (van der Vorst 1992), compiled once per
+// CSR SpMV and right-preconditioned BiCGStab (van der Vorst 1992), compiled once per
 // backend. Every vector operation is a functor run through a Thrust algorithm with `exec`.
 #include <twinflow_sph/linear_solver.h>
 
@@ -86,8 +86,35 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     apply(n, SpmvRow{ptr(offsets), ptr(indices), ptr(values), ptr(x), ptr(y)});
   }
 
+  void inverse_diagonal(const dvec<int> &offsets, const dvec<int> &indices, const dvec<double> &values,
+                        dvec<double> &inv_diag)
+  {
+    const int n = offsets.empty() ? 0 : int(offsets.size()) - 1;
+    inv_diag.resize(n);
+    apply(n, InverseDiagonal{ptr(offsets), ptr(indices), ptr(values), ptr(inv_diag)});
+  }
+
+  JacobiPreconditioner::JacobiPreconditioner(const dvec<int> &offsets, const dvec<int> &indices,
+                                             const dvec<double> &values)
+  {
+    inverse_diagonal(offsets, indices, values, inv_diag);
+  }
+
+  void JacobiPreconditioner::apply(const dvec<double> &r, dvec<double> &z) const
+  {
+    if (z.size() != r.size()) z.resize(r.size());
+    TWINFLOW_SPH_BACKEND::apply(int(r.size()), Scale{ptr(z), ptr(inv_diag), ptr(r)});
+  }
+
   SolverResult bicgstab(const dvec<int> &offsets, const dvec<int> &indices, const dvec<double> &values,
                         const dvec<double> &b, dvec<double> &x, const SolverSettings &settings)
+  {
+    return bicgstab(offsets, indices, values, b, x, settings, JacobiPreconditioner(offsets, indices, values));
+  }
+
+  SolverResult bicgstab(const dvec<int> &offsets, const dvec<int> &indices, const dvec<double> &values,
+                        const dvec<double> &b, dvec<double> &x, const SolverSettings &settings,
+                        const Preconditioner &M)
   {
     const Csr    A{offsets, indices, values};
     const int    n     = int(b.size());
@@ -98,8 +125,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     if (bnorm == 0) { thrust::fill(exec, x.begin(), x.end(), 0.0); result.converged = true; return result; }
     const double target = settings.tolerance * bnorm;
 
-    dvec<double> inv_diag(n), r(n), r_hat(n), p(n), v(n), p_hat(n), s(n), s_hat(n), t(n), x_best(x);
-    apply(n, InverseDiagonal{ptr(offsets), ptr(indices), ptr(values), ptr(inv_diag)});
+    dvec<double> r(n), r_hat(n), p(n), v(n), p_hat(n), s(n), s_hat(n), t(n), x_best(x);
     double r_norm = residual(A, b, x, r), best = r_norm, r_hat_norm = 0, rho_old = 1, alpha = 1, omega = 1;
     bool   restart = true;
     int    it      = 0;
@@ -121,7 +147,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       if (!(std::abs(rho) > tiny * r_hat_norm * r_norm)) break;             // rho breakdown
       const double beta = rho / rho_old * (alpha / omega);
       apply(n, UpdateDirection{ptr(p), ptr(r), ptr(v), beta, omega});
-      apply(n, Scale{ptr(p_hat), ptr(inv_diag), ptr(p)});
+      M.apply(p, p_hat);
       spmv(offsets, indices, values, p_hat, v);
       const double r_hat_v = dot(r_hat, v);
       if (!(std::abs(r_hat_v) > tiny * r_hat_norm * norm(v))) break;        // (r̂, v) breakdown
@@ -134,7 +160,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
         r_norm = residual(A, b, x, r), restart = true;
         continue;
       }
-      apply(n, Scale{ptr(s_hat), ptr(inv_diag), ptr(s)});
+      M.apply(s, s_hat);
       spmv(offsets, indices, values, s_hat, t);
       const double tt = dot(t, t), ts = dot(t, s);
       apply(n, Axpy{ptr(x), ptr(x), alpha, ptr(p_hat)});

@@ -32,6 +32,7 @@ namespace twinflow::sph
     double      cfl           = 0.2;    ///< dt ≤ CFL h / max(|u|, U_ref)
     double      solver_tolerance = 1e-8;
     int         max_iterations   = 2000;
+    bool        multigrid        = true;   ///< pressure preconditioner: multigrid (else Jacobi)
 
     static void declare(dealii::ParameterHandler &prm);
     void        parse(dealii::ParameterHandler &prm);

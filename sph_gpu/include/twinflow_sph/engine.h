@@ -21,6 +21,9 @@ namespace twinflow::sph
 
   enum class PressureWall { bce, neumann }; ///< Eq. 64–65 or Eq. 66–67
 
+  /// Preconditioner of the pressure solve: Jacobi or the cell-aggregation multigrid (multigrid.h).
+  enum class PressurePreconditioner { jacobi, multigrid };
+
   struct EngineSettings
   {
     double             spacing   = 0.01;  ///< initial inter-particle distance Δx
@@ -36,6 +39,7 @@ namespace twinflow::sph
     std::array<double, 3> acceleration{{0, 0, 0}}; ///< gravity + body force
     std::array<double, 3> gravity{{0, 0, 0}};      ///< g of Eq. 61/64
     SolverSettings     velocity_solver, pressure_solver;
+    PressurePreconditioner pressure_preconditioner = PressurePreconditioner::multigrid;
   };
 
   /// Particles in host memory (structure of arrays).

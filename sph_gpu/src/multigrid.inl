@@ -1,0 +1,466 @@
+// Cell-aggregation multigrid preconditioner (single source for the CPU and CUDA backends);
+// see multigrid.h for the method. Every loop is a functor over cells or particles run with
+// thrust::for_each; each thread writes only its own row/cell (gathers, no atomics).
+#include <twinflow_sph/multigrid.h>
+
+#include <thrust/binary_search.h>
+#include <thrust/copy.h>
+#include <thrust/fill.h>
+#include <thrust/for_each.h>
+#include <thrust/iterator/counting_iterator.h>
+#include <thrust/sequence.h>
+#include <thrust/sort.h>
+#include <thrust/transform_reduce.h>
+
+#include <cmath>
+
+namespace twinflow::sph::TWINFLOW_SPH_BACKEND
+{
+  namespace multigrid_detail
+  {
+    template <int dim>
+    constexpr int stencil_size() { return dim == 2 ? 9 : 27; }
+
+    /// A structured grid of cells: coordinates ↔ ids, neighbours with periodic wrap.
+    template <int dim>
+    struct CellGrid
+    {
+      long long n[dim];
+      bool      periodic[dim];
+
+      TWINFLOW_HD void decode(long long id, long long c[dim]) const
+      {
+        for (int d = 0; d < dim; ++d)
+          c[d] = id % n[d], id /= n[d];
+      }
+      TWINFLOW_HD long long encode(const long long c[dim]) const
+      {
+        long long id = 0;
+        for (int d = dim - 1; d >= 0; --d)
+          id = id * n[d] + c[d];
+        return id;
+      }
+      /// Stencil slot of cell J seen from cell I (adjacent, minimum image in periodic directions).
+      TWINFLOW_HD int slot(const long long cI[dim], const long long cJ[dim]) const
+      {
+        int s = 0, stride = 1;
+        for (int d = 0; d < dim; ++d)
+        {
+          long long o = cJ[d] - cI[d];
+          if (periodic[d])
+          {
+            if (o > 1) o -= n[d];
+            if (o < -1) o += n[d];
+          }
+          o = o < -1 ? -1 : (o > 1 ? 1 : o); // guard (cannot happen for coupled particles)
+          s += int(o + 1) * stride;
+          stride *= 3;
+        }
+        return s;
+      }
+      /// Neighbour of cell c in stencil slot s; false if outside a non-periodic direction.
+      TWINFLOW_HD bool neighbour(const long long c[dim], int s, long long out[dim]) const
+      {
+        for (int d = 0; d < dim; ++d)
+        {
+          out[d] = c[d] + (s % 3) - 1;
+          s /= 3;
+          if (periodic[d])
+            out[d] = out[d] < 0 ? out[d] + n[d] : (out[d] >= n[d] ? out[d] - n[d] : out[d]);
+          else if (out[d] < 0 || out[d] >= n[d])
+            return false;
+        }
+        return true;
+      }
+    };
+
+    template <int dim>
+    struct CellOfParticle
+    {
+      CellGrid<dim> grid;
+      double        lower[dim], inv_size[dim];
+      TWINFLOW_HD int operator()(const Vec<dim> &x) const
+      {
+        long long c[dim];
+        for (int d = 0; d < dim; ++d)
+        {
+          double t = ::floor((x[d] - lower[d]) * inv_size[d]);
+          if (grid.periodic[d])
+            t -= grid.n[d] * ::floor(t / grid.n[d]);
+          c[d] = t < 0 ? 0 : (t >= double(grid.n[d] - 1) ? grid.n[d] - 1 : (long long)t);
+        }
+        return int(grid.encode(c));
+      }
+    };
+
+    /// Level-1 stencil of cell I: Σ over its particles i and their entries j of A_ij / A_ii.
+    template <int dim>
+    struct ParticleGalerkin
+    {
+      CellGrid<dim> grid;
+      const int    *cell_start, *sorted, *cell, *offsets, *indices;
+      const double *values, *inv_diag;
+      double       *stencil;
+      TWINFLOW_HD void operator()(int I) const
+      {
+        constexpr int S = stencil_size<dim>();
+        double        acc[S];
+        for (int s = 0; s < S; ++s) acc[s] = 0;
+        long long cI[dim], cJ[dim];
+        grid.decode(I, cI);
+        for (int k = cell_start[I]; k < cell_start[I + 1]; ++k)
+        {
+          const int i = sorted[k];
+          for (int e = offsets[i]; e < offsets[i + 1]; ++e)
+          {
+            grid.decode(cell[indices[e]], cJ);
+            acc[grid.slot(cI, cJ)] += inv_diag[i] * values[e];
+          }
+        }
+        for (int s = 0; s < S; ++s) stencil[(long long)I * S + s] = acc[s];
+      }
+    };
+
+    /// Coarse stencil of cell I from the fine stencils of its 2^dim children.
+    template <int dim>
+    struct CellGalerkin
+    {
+      CellGrid<dim> fine, coarse;
+      const double *fine_stencil;
+      double       *stencil;
+      TWINFLOW_HD void operator()(int I) const
+      {
+        constexpr int S = stencil_size<dim>();
+        double        acc[S];
+        for (int s = 0; s < S; ++s) acc[s] = 0;
+        long long cI[dim], c[dim], nb[dim], cJ[dim];
+        coarse.decode(I, cI);
+        for (int b = 0; b < (1 << dim); ++b)
+        {
+          bool inside = true;
+          for (int d = 0; d < dim; ++d)
+          {
+            c[d] = 2 * cI[d] + ((b >> d) & 1);
+            inside = inside && c[d] < fine.n[d];
+          }
+          if (!inside) continue;
+          const long long id = fine.encode(c);
+          for (int s = 0; s < S; ++s)
+          {
+            const double v = fine_stencil[id * S + s];
+            if (v == 0 || !fine.neighbour(c, s, nb)) continue;
+            for (int d = 0; d < dim; ++d) cJ[d] = nb[d] / 2;
+            acc[coarse.slot(cI, cJ)] += v;
+          }
+        }
+        for (int s = 0; s < S; ++s) stencil[(long long)I * S + s] = acc[s];
+      }
+    };
+
+    /// res = f − S x on a cell level.
+    template <int dim>
+    struct CellResidual
+    {
+      CellGrid<dim> grid;
+      const double *stencil, *x, *f;
+      double       *res;
+      TWINFLOW_HD void operator()(int I) const
+      {
+        constexpr int S = stencil_size<dim>();
+        long long     cI[dim], nb[dim];
+        grid.decode(I, cI);
+        double sum = 0;
+        for (int s = 0; s < S; ++s)
+        {
+          const double v = stencil[(long long)I * S + s];
+          if (v != 0 && grid.neighbour(cI, s, nb)) sum += v * x[grid.encode(nb)];
+        }
+        res[I] = f[I] - sum;
+      }
+    };
+
+    /// x += ω res / S_II (empty cells, zero diagonal: x = 0).
+    template <int dim>
+    struct CellJacobi
+    {
+      const double *stencil, *res;
+      double       *x;
+      double        omega;
+      TWINFLOW_HD void operator()(int I) const
+      {
+        constexpr int S = stencil_size<dim>();
+        const double  d = stencil[(long long)I * S + S / 2];
+        x[I]            = d != 0 ? x[I] + omega * res[I] / d : 0.0;
+      }
+    };
+
+    /// Restriction: coarse f[I] = Σ of the fine residuals of the children cells.
+    template <int dim>
+    struct CellRestrict
+    {
+      CellGrid<dim> fine, coarse;
+      const double *res;
+      double       *f;
+      TWINFLOW_HD void operator()(int I) const
+      {
+        long long cI[dim], c[dim];
+        coarse.decode(I, cI);
+        double sum = 0;
+        for (int b = 0; b < (1 << dim); ++b)
+        {
+          bool inside = true;
+          for (int d = 0; d < dim; ++d)
+          {
+            c[d] = 2 * cI[d] + ((b >> d) & 1);
+            inside = inside && c[d] < fine.n[d];
+          }
+          if (inside) sum += res[fine.encode(c)];
+        }
+        f[I] = sum;
+      }
+    };
+
+    /// Prolongation: fine x[i] += factor · coarse x[parent(i)].
+    template <int dim>
+    struct CellProlong
+    {
+      CellGrid<dim> fine, coarse;
+      const double *xc;
+      double       *x;
+      double        factor;
+      TWINFLOW_HD void operator()(int i) const
+      {
+        long long c[dim];
+        fine.decode(i, c);
+        for (int d = 0; d < dim; ++d) c[d] /= 2;
+        x[i] += factor * xc[coarse.encode(c)];
+      }
+    };
+
+    /// Particle level: f0 = D⁻¹ r, x = ω f0 (first Jacobi sweep from zero).
+    struct ScaleFirstSweep
+    {
+      const double *inv_diag, *r;
+      double       *f, *x;
+      double        omega;
+      TWINFLOW_HD void operator()(int i) const
+      {
+        f[i] = inv_diag[i] * r[i];
+        x[i] = omega * f[i];
+      }
+    };
+
+    /// Particle level: res = f − D⁻¹ (A x), given Ax.
+    struct ParticleResidual
+    {
+      const double *inv_diag, *f, *Ax;
+      double       *res;
+      TWINFLOW_HD void operator()(int i) const { res[i] = f[i] - inv_diag[i] * Ax[i]; }
+    };
+
+    struct AddScaled
+    {
+      const double *y;
+      double       *x;
+      double        a;
+      TWINFLOW_HD void operator()(int i) const { x[i] += a * y[i]; }
+    };
+
+    /// Restriction from particles: f[I] = Σ_{i in cell I} res[i].
+    struct ParticleRestrict
+    {
+      const int    *cell_start, *sorted;
+      const double *res;
+      double       *f;
+      TWINFLOW_HD void operator()(int I) const
+      {
+        double sum = 0;
+        for (int k = cell_start[I]; k < cell_start[I + 1]; ++k) sum += res[sorted[k]];
+        f[I] = sum;
+      }
+    };
+
+    struct ParticleProlong
+    {
+      const int    *cell;
+      const double *xc;
+      double       *x;
+      double        factor;
+      TWINFLOW_HD void operator()(int i) const { x[i] += factor * xc[cell[i]]; }
+    };
+
+    template <int dim>
+    struct MinMax
+    {
+      Vec<dim> lo, hi;
+    };
+    template <int dim>
+    struct ToMinMax
+    {
+      TWINFLOW_HD MinMax<dim> operator()(const Vec<dim> &x) const { return {x, x}; }
+    };
+    template <int dim>
+    struct MergeMinMax
+    {
+      TWINFLOW_HD MinMax<dim> operator()(const MinMax<dim> &a, const MinMax<dim> &b) const
+      {
+        MinMax<dim> r;
+        for (int d = 0; d < dim; ++d)
+        {
+          r.lo[d] = a.lo[d] < b.lo[d] ? a.lo[d] : b.lo[d];
+          r.hi[d] = a.hi[d] > b.hi[d] ? a.hi[d] : b.hi[d];
+        }
+        return r;
+      }
+    };
+
+    template <typename F>
+    void for_n(long long n, const F &f)
+    {
+      thrust::for_each(exec, thrust::counting_iterator<int>(0), thrust::counting_iterator<int>(int(n)), f);
+    }
+
+    template <int dim, class LevelT>
+    CellGrid<dim> grid_of(const LevelT &level, const bool (&periodic)[dim])
+    {
+      CellGrid<dim> g;
+      for (int d = 0; d < dim; ++d) g.n[d] = level.n[d], g.periodic[d] = periodic[d];
+      return g;
+    }
+
+    /// Cells with at most this many entries are the coarsest level.
+    constexpr long long kCoarsestCells = 64;
+  } // namespace multigrid_detail
+
+  template <int dim>
+  void CellMultigrid<dim>::setup(const dvec<Vec<dim>> &x, const DomainBox<dim> &box, const double cell_size,
+                                 const dvec<int> &offsets_, const dvec<int> &indices_, const dvec<double> &values_)
+  {
+    using namespace multigrid_detail;
+    offsets = &offsets_, indices = &indices_, values = &values_;
+    const int n = int(x.size());
+    inverse_diagonal(offsets_, indices_, values_, inv_diag);
+    x0.resize(n), f0.resize(n), res0.resize(n);
+
+    // level-1 grid over the particles (periodic directions: whole cells over the period)
+    MinMax<dim> init;
+    for (int d = 0; d < dim; ++d) init.lo[d] = 1e300, init.hi[d] = -1e300;
+    const MinMax<dim> bb = thrust::transform_reduce(exec, x.begin(), x.end(), ToMinMax<dim>(), init, MergeMinMax<dim>());
+    CellOfParticle<dim> locate;
+    for (int d = 0; d < dim; ++d)
+    {
+      periodic[d] = locate.grid.periodic[d] = box.periodic[d];
+      if (box.periodic[d])
+      {
+        const double L = box.upper[d] - box.lower[d];
+        locate.grid.n[d] = std::max(1LL, (long long)std::floor(L / cell_size));
+        locate.lower[d]  = box.lower[d];
+        locate.inv_size[d] = locate.grid.n[d] / L;
+      }
+      else
+      {
+        const double extent = n > 0 ? bb.hi[d] - bb.lo[d] : 0;
+        locate.grid.n[d]    = std::max(1LL, (long long)std::floor(extent / cell_size) + 1);
+        locate.lower[d]     = n > 0 ? bb.lo[d] : 0;
+        locate.inv_size[d]  = 1 / cell_size;
+      }
+    }
+    long long n_cells = 1;
+    for (int d = 0; d < dim; ++d) n_cells *= locate.grid.n[d];
+
+    // particles in cell order
+    cell.resize(n), sorted.resize(n), cell_start.resize(n_cells + 1);
+    thrust::transform(exec, x.begin(), x.end(), cell.begin(), locate);
+    dvec<int> keys(cell);
+    thrust::sequence(exec, sorted.begin(), sorted.end());
+    thrust::sort_by_key(exec, keys.begin(), keys.end(), sorted.begin());
+    thrust::lower_bound(exec, keys.begin(), keys.end(), thrust::counting_iterator<int>(0),
+                        thrust::counting_iterator<int>(int(n_cells) + 1), cell_start.begin());
+
+    // level 1 from the particles, then 2^dim-coarsening down to ≤ kCoarsestCells cells
+    levels.clear();
+    levels.reserve(32);
+    constexpr int S = stencil_size<dim>();
+    {
+      Level L1;
+      for (int d = 0; d < dim; ++d) L1.n[d] = locate.grid.n[d];
+      L1.n_total = n_cells;
+      L1.stencil.resize(n_cells * S);
+      for_n(n_cells, ParticleGalerkin<dim>{locate.grid, ptr(cell_start), ptr(sorted), ptr(cell), ptr(offsets_),
+                                           ptr(indices_), ptr(values_), ptr(inv_diag), ptr(L1.stencil)});
+      levels.push_back(std::move(L1));
+    }
+    while (levels.back().n_total > kCoarsestCells)
+    {
+      const Level &F = levels.back();
+      Level        C;
+      C.n_total = 1;
+      bool coarser = false;
+      for (int d = 0; d < dim; ++d)
+      {
+        C.n[d] = (F.n[d] + 1) / 2;
+        coarser = coarser || C.n[d] < F.n[d];
+        C.n_total *= C.n[d];
+      }
+      if (!coarser) break;
+      C.stencil.resize(C.n_total * S);
+      for_n(C.n_total, CellGalerkin<dim>{grid_of<dim>(F, periodic), grid_of<dim>(C, periodic), ptr(F.stencil), ptr(C.stencil)});
+      levels.push_back(std::move(C));
+    }
+    for (Level &L : levels)
+      L.x.resize(L.n_total), L.f.resize(L.n_total), L.res.resize(L.n_total);
+  }
+
+  template <int dim>
+  void CellMultigrid<dim>::apply(const dvec<double> &r, dvec<double> &z) const
+  {
+    using namespace multigrid_detail;
+    const int n = int(r.size());
+    const double omega = settings.jacobi_damping;
+    for_n(n, ScaleFirstSweep{ptr(inv_diag), ptr(r), ptr(f0), ptr(x0), omega});
+    auto residual = [&] {
+      spmv(*offsets, *indices, *values, x0, res0);
+      for_n(n, ParticleResidual{ptr(inv_diag), ptr(f0), ptr(res0), ptr(res0)});
+    };
+    for (int k = 1; k < settings.smoothing_steps; ++k)
+      residual(), for_n(n, AddScaled{ptr(res0), ptr(x0), omega});
+    residual();
+    const Level &L1 = levels.front();
+    for_n(L1.n_total, ParticleRestrict{ptr(cell_start), ptr(sorted), ptr(res0), ptr(L1.f)});
+    cycle(0);
+    for_n(n, ParticleProlong{ptr(cell), ptr(L1.x), ptr(x0), settings.over_correction});
+    for (int k = 0; k < settings.smoothing_steps; ++k)
+      residual(), for_n(n, AddScaled{ptr(res0), ptr(x0), omega});
+    if (z.size() != r.size()) z.resize(r.size());
+    thrust::copy(exec, x0.begin(), x0.end(), z.begin());
+  }
+
+  template <int dim>
+  void CellMultigrid<dim>::cycle(const int l) const
+  {
+    using namespace multigrid_detail;
+    const Level  &L     = levels[l];
+    const auto    grid  = grid_of<dim>(L, periodic);
+    const double  omega = settings.jacobi_damping;
+    thrust::fill(exec, L.x.begin(), L.x.end(), 0.0);
+    auto sweep = [&] {
+      for_n(L.n_total, CellResidual<dim>{grid, ptr(L.stencil), ptr(L.x), ptr(L.f), ptr(L.res)});
+      for_n(L.n_total, CellJacobi<dim>{ptr(L.stencil), ptr(L.res), ptr(L.x), omega});
+    };
+    if (l + 1 == int(levels.size()))
+    {
+      for (int k = 0; k < settings.coarsest_sweeps; ++k) sweep();
+      return;
+    }
+    for (int k = 0; k < settings.smoothing_steps; ++k) sweep();
+    const Level &C = levels[l + 1];
+    for_n(L.n_total, CellResidual<dim>{grid, ptr(L.stencil), ptr(L.x), ptr(L.f), ptr(L.res)});
+    for_n(C.n_total, CellRestrict<dim>{grid, grid_of<dim>(C, periodic), ptr(L.res), ptr(C.f)});
+    cycle(l + 1);
+    for_n(L.n_total, CellProlong<dim>{grid, grid_of<dim>(C, periodic), ptr(C.x), ptr(L.x), settings.over_correction});
+    for (int k = 0; k < settings.smoothing_steps; ++k) sweep();
+  }
+
+  template class CellMultigrid<2>;
+  template class CellMultigrid<3>;
+} // namespace twinflow::sph::TWINFLOW_SPH_BACKEND
