@@ -85,9 +85,11 @@ namespace twinflow
 
     prm.enter_subsection("Domain");
     {
-      prm.declare_entry("Geometry", "box", Patterns::Selection("box|channel with cylinder"),
+      prm.declare_entry("Geometry", "box", Patterns::Selection("box|channel with cylinder|box with cylinder"),
                         "box: the box Lower corner..Upper corner; channel with cylinder: the DFG benchmark "
-                        "channel [0,2.2]x[0,0.41] with a body-fitted cylinder (boundary 'cylinder').");
+                        "channel [0,2.2]x[0,0.41] with a body-fitted cylinder (boundary 'cylinder'); "
+                        "box with cylinder (2D): the box Lower corner..Upper corner around Solid 1 (a fixed "
+                        "disk), body-fitted in the FEM mesh (any face may be periodic); SPH sees box + solid.");
       prm.declare_entry("Lower corner", "0, 0", Patterns::Anything(), "Lower corner of the domain box [m].");
       prm.declare_entry("Upper corner", "1, 1", Patterns::Anything(), "Upper corner of the domain box [m].");
       prm.declare_entry("Periodic directions", "", Patterns::List(Patterns::Selection("x|y|z"), 0, 3),
@@ -354,6 +356,19 @@ namespace twinflow
               "with Radius 0.05 (DFG benchmark); set those values or use Domain/Geometry = box");
       require(s.boundary[2] == s.boundary[3], "Domain/top boundary", "",
               "in the 'channel with cylinder' geometry the top and bottom walls share one boundary: give them the same condition");
+    }
+    if (s.geometry == "box with cylinder")
+    {
+      require(dim == 2, "Domain/Geometry", s.geometry, "'box with cylinder' is 2D; use Dimension = 2");
+      require(s.solids.size() == 1 && s.solids[0].motion == SolidMotion::fixed && s.solids[0].shape == "disk",
+              "Solids/Number of solids", std::to_string(s.solids.size()),
+              "the body-fitted 'box with cylinder' geometry holds exactly one fixed disk (Solid 1)");
+      const Solid &c    = s.solids[0];
+      double       dmin = 1e300;
+      for (int d = 0; d < 2; ++d)
+        dmin = std::min({dmin, c.center[d] - s.domain.lower[d], s.domain.upper[d] - c.center[d]});
+      require(dmin > c.radius * (1 + 1e-6), "Solids/Solid 1/Radius", std::to_string(c.radius),
+              "the cylinder of the 'box with cylinder' geometry must not touch the box faces");
     }
     return s;
   }

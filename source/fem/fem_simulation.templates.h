@@ -18,6 +18,7 @@
 #include <deal.II/grid/grid_tools.h>
 #include <deal.II/numerics/data_out.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <sstream>
@@ -78,6 +79,32 @@ namespace twinflow::fem
     };
 
     std::string join(const std::vector<std::string> &v, const std::string &sep);
+
+    /// "box with cylinder": the scene's box around a body-fitted hole (Solid 1) from
+    /// GridGenerator::plate_with_a_hole — a square of half-width a = min(2R, (R + d)/2)
+    /// (d: distance from the centre to the nearest face) with transfinite cells around the
+    /// polar-manifold hole, padded up to the box faces. Opposite faces get the same vertex
+    /// layout, so periodic faces match. Colorized ids: x 0/1, y 2/3, hole 4 (returned).
+    template <int dim>
+    types::boundary_id make_box_with_cylinder(Triangulation<dim> &tria, const Scene &scene,
+                                              std::array<types::boundary_id, 6> &face_id)
+    {
+      Assert(dim == 2, ExcNotImplemented()); // the scene parser allows 2D only
+      const Solid &c = scene.solids.front();
+      Point<dim>   center;
+      double       d = 1e300;
+      for (unsigned int k = 0; k < 2; ++k)
+      {
+        center[k] = c.center[k];
+        d = std::min({d, c.center[k] - scene.domain.lower[k], scene.domain.upper[k] - c.center[k]});
+      }
+      const double a = std::min(2.0 * c.radius, 0.5 * (c.radius + d));
+      GridGenerator::plate_with_a_hole(tria, c.radius, a, c.center[1] - a - scene.domain.lower[1],
+                                       scene.domain.upper[1] - c.center[1] - a, c.center[0] - a - scene.domain.lower[0],
+                                       scene.domain.upper[0] - c.center[0] - a, center, 0, 1, 1.0, 2, true);
+      face_id = {{0, 1, 2, 3, 5, 6}};
+      return 4;
+    }
   } // namespace internal
 
   template <int dim>
@@ -92,11 +119,13 @@ namespace twinflow::fem
     if (scene.has_free_surface())
       throw InputError("Fluids/Number of fluids = 2: the FEM two-phase module (conservative level set, "
                        "Algorithm 1) is not available yet; allowed with FEM now: 1 fluid.");
-    const bool fitted = scene.geometry == "channel with cylinder";
+    const bool dfg_channel = scene.geometry == "channel with cylinder";
+    const bool fitted      = dfg_channel || scene.geometry == "box with cylinder";
     if (scene.has_solids() && !fitted)
       throw InputError("Solids/Number of solids = " + std::to_string(scene.solids.size()) +
                        ": immersed solids (IBM, Eq. 15-16) are not available in the FEM yet; allowed now: "
-                       "Domain/Geometry = channel with cylinder (body-fitted cylinder) or no solids.");
+                       "Domain/Geometry = channel with cylinder or box with cylinder (body-fitted cylinder) or "
+                       "no solids.");
     result.active_physics.push_back("navier-stokes (single phase, constant density)");
     if (fitted)
       result.active_physics.push_back("body-fitted fixed cylinder");
@@ -110,12 +139,14 @@ namespace twinflow::fem
     parallel::distributed::Triangulation<dim> tria(comm);
     std::array<types::boundary_id, 6> face_id{{0, 1, 2, 3, 4, 5}};
     types::boundary_id                body_id = numbers::invalid_boundary_id;
-    if (fitted)
+    if (dfg_channel)
     {
       GridGenerator::channel_with_cylinder(tria, 0.03, 2, 2.0, true);
       face_id = {{0, 1, 3, 3, 3, 3}};
       body_id = 2;
     }
+    else if (fitted)
+      body_id = internal::make_box_with_cylinder(tria, scene, face_id);
     else
     {
       Point<dim>                p1, p2;

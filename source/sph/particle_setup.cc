@@ -22,13 +22,16 @@ namespace twinflow::sph
 
   namespace
   {
-    /// Signed distance to the scene's solids (min over them), +∞ if none.
+    /// Signed distance to the scene's solids (min over them), +∞ if none; @p which: the
+    /// index of the nearest solid.
     template <int dim>
-    double solid_distance(const Scene &scene, const geometry::Vec<dim> &x, geometry::Vec<dim> &normal)
+    double solid_distance(const Scene &scene, const geometry::Vec<dim> &x, geometry::Vec<dim> &normal, int &which)
     {
       double best = 1e300;
-      for (const auto &s : scene.solids)
+      which       = -1;
+      for (std::size_t k = 0; k < scene.solids.size(); ++k)
       {
+        const Solid       &s = scene.solids[k];
         geometry::Vec<dim> c;
         for (int d = 0; d < dim; ++d)
           c[d] = s.center[d];
@@ -55,6 +58,7 @@ namespace twinflow::sph
         {
           best   = phi;
           normal = n;
+          which  = static_cast<int>(k);
         }
       }
       return best;
@@ -102,7 +106,8 @@ namespace twinflow::sph
             inside = inside && i[d] >= 0 && i[d] < n[d];
           }
           geometry::Vec<dim> n_solid;
-          const double       phi_s = solid_distance<dim>(scene, x, n_solid);
+          int                solid_index = -1;
+          const double       phi_s = solid_distance<dim>(scene, x, n_solid, solid_index);
           int                kind  = -1;
           geometry::Vec<dim> normal = geometry::Vec<dim>::zero();
           if (!inside)
@@ -137,6 +142,7 @@ namespace twinflow::sph
           P.wall_velocity.push_back(geometry::Vec<dim>::zero());
           P.wall_acceleration.push_back(geometry::Vec<dim>::zero());
           P.normal.push_back(normal);
+          P.body.push_back(kind == ParticleKind::solid ? solid_index : -1);
           n_fluid += kind == ParticleKind::fluid;
         }
     if (n_fluid == 0)

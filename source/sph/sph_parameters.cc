@@ -27,6 +27,10 @@ namespace twinflow::sph
                       "BCE markers' pressure rows: force balance (Eq. 64-65) or zero normal gradient (Eq. 66-67).");
     prm.declare_entry("Free-surface density ratio", "0.95", Patterns::Double(0, 1),
                       "Fluid particles with summation density below ratio * rho0 are free-surface particles (p = 0).");
+    prm.declare_entry("Free-surface divergence ratio", "0", Patterns::Double(0, 1),
+                      "Fluid particles whose position divergence div r is below ratio * dim are also free-surface "
+                      "particles (catches the surface where BCE markers fill the density up, e.g. at walls; Lind et "
+                      "al. 2012 use 1.5 in 2D); 0: density criterion only.");
     prm.declare_entry("Particle shifting", "0", Patterns::Double(0, 10),
                       "Coefficient A of Fickian particle shifting (dr = -A h |u| dt grad C, Lind et al. 2012); 0: off.");
     prm.declare_entry("Time step", "1e-3", Patterns::Double(0), "Maximum time step [s], > 0.");
@@ -51,6 +55,7 @@ namespace twinflow::sph
     alpha         = prm.get_double("Alpha");
     neumann_walls = prm.get("Wall pressure condition") == "neumann";
     free_surface_ratio = prm.get_double("Free-surface density ratio");
+    free_surface_divergence_ratio = prm.get_double("Free-surface divergence ratio");
     shifting           = prm.get_double("Particle shifting");
     time_step = prm.get_double("Time step");
     require(time_step > 0, "SPH/Time step", prm.get("Time step"), "the time step must be > 0");

@@ -13,7 +13,10 @@
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/timer.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <memory>
 #include <fstream>
 #include <iostream>
 #include <sstream>
@@ -63,6 +66,24 @@ namespace twinflow::sph
       io::CsvMonitor solver(dir + "/solver.csv",
                             {"time", "dt", "velocity iterations", "pressure iterations", "pressure residual", "free-surface particles"},
                             {"s", "s", "-", "-", "-", "-"}, self, "solver");
+      // Fluid force on each solid (engine, doc/equations.md "Forces on solids"); columns as the
+      // FEM's forces monitor so that both overlay in one plot. Solid 1: forces.csv, others
+      // forces_<name>.csv. C = 2F / (rho U^2 A), A = Reference length (x depth in 3D).
+      std::vector<std::unique_ptr<io::CsvMonitor>> forces_csv;
+      std::vector<double>                          force_t, drag_series, lift_series;
+      const double area = scene.reference_length * (dim == 3 ? scene.domain.upper[2] - scene.domain.lower[2] : 1.0);
+      const double coefficient_scale =
+        2.0 / (fluid.density * scene.reference_velocity * scene.reference_velocity * area);
+      if (scene.has_solids() && scene.monitors_contain("forces"))
+        for (std::size_t b = 0; b < scene.solids.size(); ++b)
+        {
+          std::vector<std::string> cols{"time", "Fx", "Fy"}, units{"s", "N", "N"};
+          if (dim == 3) { cols.push_back("Fz"); units.push_back("N"); }
+          cols.insert(cols.end(), {"C_d", "C_l"});
+          units.insert(units.end(), {"-", "-"});
+          const std::string file = b == 0 ? "forces.csv" : "forces_" + scene.solids[b].name + ".csv";
+          forces_csv.push_back(std::make_unique<io::CsvMonitor>(dir + "/" + file, cols, units, self, "forces"));
+        }
       io::PvdSeries pvd(dir, "particles", self);
       unsigned int  output_count = 0;
       double        m0 = fluid.density;
@@ -90,6 +111,22 @@ namespace twinflow::sph
         front.append({t, xf, engine->max_fluid_speed()});
         front_t.push_back(t);
         front_x.push_back(xf);
+        for (std::size_t b = 0; b < forces_csv.size(); ++b)
+        {
+          const std::array<double, 3> F = engine->solid_force(static_cast<int>(b));
+          std::vector<double>         row{t};
+          for (int d = 0; d < dim; ++d)
+            row.push_back(F[d]);
+          row.push_back(coefficient_scale * F[0]);
+          row.push_back(coefficient_scale * F[1]);
+          forces_csv[b]->append(row);
+          if (b == 0 && r)
+          {
+            force_t.push_back(t);
+            drag_series.push_back(coefficient_scale * F[0]);
+            lift_series.push_back(coefficient_scale * F[1]);
+          }
+        }
         if (r)
           solver.append({t, dt, double(r->velocity[0].iterations), double(r->pressure.iterations), r->pressure.residual,
                          double(r->free_surface_particles)});
@@ -199,6 +236,33 @@ namespace twinflow::sph
         summary.add_series_error("front position x_f(t)", error, 0.05, "Martin & Moyce (1952), n^2 = 2");
         result.monitors["front rms relative error"] = error.rms_relative_error;
       }
+      if (!force_t.empty())
+      {
+        // Steady coefficients: time averages over the last quarter of the run (the particle
+        // force fluctuates step to step; the average is what converges to the steady value).
+        double cd = 0, cl = 0, cd2 = 0;
+        int    count = 0;
+        for (std::size_t k = 0; k < force_t.size(); ++k)
+          if (force_t[k] >= 0.75 * t)
+          {
+            cd += drag_series[k];
+            cl += lift_series[k];
+            cd2 += drag_series[k] * drag_series[k];
+            ++count;
+          }
+        cd /= count;
+        cl /= count;
+        result.monitors["C_d"]             = cd;
+        result.monitors["C_l"]             = cl;
+        result.monitors["C_d (last step)"] = drag_series.back();
+        summary.set_extra("C_d standard deviation (last quarter)", std::sqrt(std::max(0.0, cd2 / count - cd * cd)));
+        if (scene.reference_drag)
+          summary.add_error("drag coefficient C_d", cd, *scene.reference_drag, std::nullopt,
+                            "SPH: mean over the last quarter of the run");
+        if (scene.reference_lift)
+          summary.add_error("lift coefficient C_l", cl, *scene.reference_lift, std::nullopt,
+                            "SPH: mean over the last quarter of the run");
+      }
       summary.set_monitor_values(result.monitors);
       summary.set_extra("fluid particles", result.fluid_particles);
       summary.set_extra("BCE markers", result.markers);
@@ -224,6 +288,7 @@ namespace twinflow::sph
     s.alpha              = prm.alpha;
     s.pressure_wall      = prm.neumann_walls ? PressureWall::neumann : PressureWall::bce;
     s.free_surface_ratio = prm.free_surface_ratio;
+    s.free_surface_divergence = prm.free_surface_divergence_ratio * scene.dimension;
     s.free_surface       = scene.fluid_region.has_value();
     s.shifting           = prm.shifting;
     for (int d = 0; d < 3; ++d)

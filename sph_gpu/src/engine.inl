@@ -6,6 +6,7 @@
 #include <twinflow_sph/operators.h>
 
 #include "engine_functors.inl"
+#include "solid_force.inl"
 
 #include <thrust/copy.h>
 #include <thrust/count.h>
@@ -17,6 +18,7 @@
 #include <thrust/transform.h>
 #include <thrust/functional.h>
 
+#include <algorithm>
 #include <chrono>
 #include <stdexcept>
 #include <string>
@@ -85,6 +87,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       wall_velocity.assign(p.wall_velocity.begin(), p.wall_velocity.end());
       wall_acceleration.assign(p.wall_acceleration.begin(), p.wall_acceleration.end());
       normal.assign(p.normal.begin(), p.normal.end());
+      setup_solids(p);
       rho.resize(n);
       support.resize(n);
       surface.resize(n);
@@ -95,9 +98,12 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       div_u.resize(n);
       for (int d = 0; d < dim; ++d)
         grad_p[d].resize(n);
-      // confined flows: pin the first fluid particle's pressure
+      // Confined flows: the pressure is defined up to a constant. A pinned particle becomes a
+      // point source of the residual incompatibility (divergence of the periodic cylinder
+      // benchmark), so by default nothing is pinned: the right-hand side is made compatible
+      // (make_confined_rhs_compatible) and the system regular (regularise_confined_pressure_matrix).
       pinned = -1;
-      if (!settings.free_surface)
+      if (!settings.free_surface && pin_confined_pressure)
         for (int i = 0; i < n; ++i)
           if (p.kind[i] == ParticleKind::fluid)
           {
@@ -131,8 +137,9 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       report.t_neighbors = clock.lap();
       compute_volumes<dim>(x, nl, box, W, V);
       thrust::for_each(exec, first, last,
-                       detail::DensityAndSupport<dim>{ptr(x), ptr(kind), ptr(nl.offsets), ptr(nl.indices), box, W, m0,
-                                                      settings.rho0, settings.free_surface_ratio, settings.free_surface,
+                       detail::DensityAndSupport<dim>{ptr(x), ptr(kind), ptr(nl.offsets), ptr(nl.indices), box, W, ptr(V), m0,
+                                                      settings.rho0, settings.free_surface_ratio,
+                                                      settings.free_surface_divergence, settings.free_surface,
                                                       ptr(rho), ptr(support), ptr(surface)});
       report.free_surface_particles = thrust::reduce(exec, surface.begin(), surface.end(), 0);
       if (settings.consistent)
@@ -188,12 +195,14 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       for (int d = 0; d < dim; ++d)
         pm.grad[d] = ptr(A.gradient[d]);
       thrust::for_each(exec, first, last, pm);
+      regularise_confined_pressure_matrix(); // confined flows only
       detail::PressureRhs<dim> pr{ptr(x), ptr(wall_acceleration), ptr(kind), ptr(nl.offsets), ptr(nl.indices),
                                   ptr(surface), ptr(div_u), ptr(rho), ptr(support), box, W, dt, settings.rho0,
                                   settings.alpha, {}, neumann, pinned, ptr(rhs)};
       for (int d = 0; d < dim; ++d)
         pr.g[d] = settings.gravity[d];
       thrust::for_each(exec, first, last, pr);
+      make_confined_rhs_compatible();        // confined flows only
       if (settings.pressure_preconditioner == PressurePreconditioner::multigrid)
       {
         multigrid.setup(x, box, 2.0 * settings.h, nl.offsets, nl.indices, values);
@@ -211,6 +220,14 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
         spmv(nl.offsets, nl.indices, A.gradient[d], pressure, grad_p[d]);
         cm.grad_p[d] = ptr(grad_p[d]);
       }
+      if (!settings.consistent)
+      {
+        detail::PairwisePressureGradient<dim> pg{ptr(kind), ptr(nl.offsets), ptr(nl.indices), {}, ptr(pressure), {}};
+        for (int d = 0; d < dim; ++d)
+          pg.grad[d] = ptr(A.gradient[d]), pg.grad_p[d] = ptr(grad_p[d]);
+        thrust::for_each(exec, first, last, pg);
+      }
+      compute_solid_forces(dt); // needs u*, p^{n+1}, ∇p and the step's positions: before the move
       if (settings.shifting > 0)
         thrust::copy(exec, x.begin(), x.end(), x_start.begin());
       thrust::for_each(exec, first, last, cm);
@@ -245,7 +262,83 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
 
     const char *backend() const override { return backend_name(); }
 
+    std::array<double, 3> solid_force(const int b) const override
+    {
+      return b >= 0 && b < static_cast<int>(forces.size()) ? forces[b] : std::array<double, 3>{{0, 0, 0}};
+    }
+
+    int n_solids() const override { return solids; }
+
   private:
+    /// A confined flow (no free surface) has a pure-Neumann pressure problem, solvable only
+    /// if Σ_F V_i rhs_i = 0; the one-sided density term of Eq. 55 and the non-symmetric
+    /// operators break that, and pinning one particle then turns the defect into a point
+    /// source there (pressure spike, divergence). Removing the volume-weighted mean of the
+    /// fluid rows restores compatibility; pressure is defined up to a constant anyway.
+    void make_confined_rhs_compatible()
+    {
+      if (settings.free_surface)
+        return;
+      const thrust::counting_iterator<int> first(0), last(n);
+      const double volume = thrust::transform_reduce(
+        exec, first, last, detail::ConfinedFluidRowWeight{ptr(kind), ptr(V), nullptr, pinned}, 0.0, thrust::plus<double>());
+      const double integral = thrust::transform_reduce(
+        exec, first, last, detail::ConfinedFluidRowWeight{ptr(kind), ptr(V), ptr(rhs), pinned}, 0.0, thrust::plus<double>());
+      if (volume > 0)
+        thrust::for_each(exec, first, last,
+                         detail::ShiftConfinedFluidRows{ptr(kind), pinned, integral / volume, ptr(rhs)});
+    }
+
+    /// Confined flows: the fluid rows' diagonal gets −ε, ε = 1e-6 / (ρ0 h²) — about 1e-5 of
+    /// the smallest physical eigenvalue of (1/ρ0) A^L in a unit domain — which makes the
+    /// singular pure-Neumann system regular without a pinned particle; what is left of the
+    /// incompatibility goes into a uniform pressure level that no gradient sees.
+    void regularise_confined_pressure_matrix()
+    {
+      if (settings.free_surface)
+        return;
+      const thrust::counting_iterator<int> first(0), last(n);
+      thrust::for_each(exec, first, last,
+                       detail::ShiftFluidDiagonal{ptr(kind), ptr(nl.offsets), ptr(nl.indices),
+                                                  1e-6 / (settings.rho0 * settings.h * settings.h), ptr(values)});
+    }
+
+    void setup_solids(const HostParticles<dim> &p)
+    {
+      solids = 0;
+      for (std::size_t i = 0; i < p.kind.size(); ++i)
+        if (p.kind[i] == ParticleKind::solid)
+          solids = std::max(solids, p.body.empty() ? 1 : p.body[i] + 1);
+      body.assign(p.body.begin(), p.body.end());
+      forces.assign(solids, std::array<double, 3>{{0, 0, 0}});
+    }
+
+    /// Fluid force on each solid (doc/equations.md "Forces on solids"): one reduction for the
+    /// reference pressure p̄_s of its wetted markers, one for the pair sum (SolidForce).
+    void compute_solid_forces(const double dt)
+    {
+      const thrust::counting_iterator<int> first(0), last(n);
+      const int *body_ptr = body.empty() ? nullptr : ptr(body);
+      for (int b = 0; b < solids; ++b)
+      {
+        const int wetted = thrust::transform_reduce(
+          exec, first, last, detail::IsSolidMarkerWithFluid<dim>{ptr(kind), body_ptr, ptr(support), b}, 0,
+          thrust::plus<int>());
+        const double p_sum = thrust::transform_reduce(
+          exec, first, last, detail::SolidMarkerPressure<dim>{ptr(kind), body_ptr, ptr(pressure), ptr(support), b}, 0.0,
+          thrust::plus<double>());
+        detail::SolidForce<dim> sf{ptr(x), ptr(u), ptr(wall_velocity), ptr(kind), body_ptr, ptr(nl.offsets),
+                                   ptr(nl.indices), ptr(V), ptr(pressure), ptr(support), {}, box, W, settings.mu, dt,
+                                   1.0 / settings.rho0, wetted > 0 ? p_sum / wetted : 0.0, b};
+        for (int d = 0; d < dim; ++d)
+          sf.grad_p[d] = ptr(grad_p[d]);
+        const Vec<dim> F = thrust::transform_reduce(exec, first, last, sf, Vec<dim>::zero(), detail::VecPlus<dim>());
+        forces[b] = {{0, 0, 0}};
+        for (int d = 0; d < dim; ++d)
+          forces[b][d] = F[d];
+      }
+    }
+
     DomainBox<dim>     box;
     EngineSettings     settings;
     CubicSpline<dim>   W;
@@ -256,7 +349,10 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     dvec<Tensor2<dim>> G, L;
     dvec<Vec<dim>>     x, x_start, u, u_cont, u_approach, wall_velocity, wall_acceleration, normal;
     dvec<double>       pressure, rho, support, V, rhs, tmp, comp, div_u, values, grad_p[dim];
-    dvec<int>          kind, surface;
+    dvec<int>          kind, surface, body;
+    std::vector<std::array<double, 3>> forces; ///< per solid, from the last step
+    int                solids = 0;
+    static constexpr bool pin_confined_pressure = false;
     double             m0 = 0;
     int                n = 0, pinned = -1;
     StepReport         report;

@@ -17,24 +17,32 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
     const int      *kind, *offsets, *indices;
     DomainBox<dim>  box;
     CubicSpline<dim> W;
-    double          m0, rho0, ratio;
+    const double   *V;
+    double          m0, rho0, ratio, divergence_threshold;
     bool            free_surface;
     double         *rho, *support;
     int            *surface;
     TWINFLOW_HD void operator()(int i) const
     {
-      double sum = 0, fluid_sum = 0;
+      double sum = 0, fluid_sum = 0, div_r = 0;
       for (int k = offsets[i]; k < offsets[i + 1]; ++k)
       {
-        const int    j = indices[k];
-        const double w = W.value(geometry::norm(box.difference(x[i], x[j])));
+        const int      j = indices[k];
+        const Vec<dim> r = box.difference(x[i], x[j]);
+        const double   w = W.value(geometry::norm(r));
         sum += w;
         if (kind[j] == ParticleKind::fluid && j != i)
           fluid_sum += w;
+        if (j != i)
+          div_r -= V[j] * geometry::dot(r, W.gradient(r));
       }
       rho[i]     = m0 * sum;
       support[i] = fluid_sum;
-      surface[i] = (kind[i] == ParticleKind::fluid && free_surface && rho[i] < ratio * rho0) ? 1 : 0;
+      // Free surface: a density deficit, or (where BCE markers fill the density up, e.g. where
+      // the surface meets a wall) a position divergence ∇·r = −Σ V_j r_ij·∇W_ij (= dim in a full
+      // support) below the threshold (Lind et al. 2012).
+      surface[i] = (kind[i] == ParticleKind::fluid && free_surface &&
+                    (rho[i] < ratio * rho0 || div_r < divergence_threshold)) ? 1 : 0;
     }
   };
 
@@ -179,6 +187,32 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
           s += (g[d] - wall_acceleration[i][d]) * rho[j] * r[d] * w;
       }
       rhs[i] = s;
+    }
+  };
+
+  /// Pressure force of the standard operators: the pair-antisymmetric form of Eq. 19,
+  ///   ∇p_i = Σ_j V_j (p_i + p_j) ∇_i W_ij = (A^G p)_i − 2 p_i A^G_ii,
+  /// which is the negative adjoint of the Eq. 19 divergence in the volume-weighted inner
+  /// product (Σ_i V_i u_i·∇p_i = −Σ_i V_i p_i ∇·u_i), so the projection cannot feed kinetic
+  /// energy, and its pair terms are antisymmetric (V_i V_j weighted: momentum conserving).
+  /// Where the support is full and symmetric, A^G_ii = −Σ_j V_j ∇_i W_ij vanishes and both
+  /// forms agree. The difference form
+  /// itself pulls a particle of raised pressure towards its sparse side (free surface:
+  /// large V_j) — a compression feedback that breaks still water up.
+  template <int dim>
+  struct PairwisePressureGradient
+  {
+    const int    *kind, *offsets, *indices;
+    const double *grad[dim], *pressure;
+    double       *grad_p[dim];
+    TWINFLOW_HD void operator()(int i) const
+    {
+      if (kind[i] != ParticleKind::fluid)
+        return;
+      for (int k = offsets[i]; k < offsets[i + 1]; ++k)
+        if (indices[k] == i)
+          for (int d = 0; d < dim; ++d)
+            grad_p[d][i] -= 2.0 * pressure[i] * grad[d][k];
     }
   };
 

@@ -34,6 +34,7 @@ namespace twinflow::sph
     double             alpha      = 0.5;  ///< blend of Eq. 55/57: density-invariance weight
     PressureWall       pressure_wall = PressureWall::bce;
     double             free_surface_ratio = 0.95; ///< fluid with ρ_i < ratio ρ0 gets p = 0
+    double             free_surface_divergence = 0; ///< … or with ∇·r_i below this (0: density only)
     bool               free_surface = true;       ///< false: no p = 0 particles (confined flow)
     double             shifting     = 0;          ///< particle-shifting coefficient A (0: off)
     std::array<double, 3> acceleration{{0, 0, 0}}; ///< gravity + body force
@@ -50,6 +51,9 @@ namespace twinflow::sph
     std::vector<double>             p, rho;
     std::vector<int>                kind;
     std::vector<geometry::Vec<dim>> wall_velocity, wall_acceleration, normal; ///< BCE: u^p, a^p, n
+    /// Index of the solid each `solid` marker belongs to (−1 for other kinds); empty: all
+    /// solid markers form solid 0. Used for the per-solid fluid force (Engine::solid_force).
+    std::vector<int>                body;
     std::size_t size() const { return x.size(); }
   };
 
@@ -76,6 +80,12 @@ namespace twinflow::sph
     virtual std::size_t       n_neighbor_entries() const      = 0;
     virtual std::size_t       bytes_per_particle() const      = 0;
     virtual const char       *backend() const                 = 0;
+    /// Fluid force on solid @p body (pressure + viscous, doc/equations.md "Forces on solids")
+    /// from the last step (zero before the first step or if the solid has no markers).
+    virtual std::array<double, 3> solid_force(int body) const = 0;
+    /// Number of solids with markers (1 + the largest HostParticles::body index; 1 if body is
+    /// empty and there are solid markers; 0 without solid markers).
+    virtual int                   n_solids() const = 0;
   };
 
   /// Creates the engine of backend "cpu" or "cuda"; throws std::invalid_argument with
