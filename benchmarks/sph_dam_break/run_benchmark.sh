@@ -16,7 +16,7 @@ sed -e "s/set End time         = 2.5/set End time         = $end/" \
     -e "s/set CFL number        = 0.2/set CFL number        = 0/" \
     -e "s/set Time step         = 1e-3/set Time step         = $dt\n  set Backend = $backend\n  set Max iterations = 20000/" \
     "$root/parameters/dam_break.prm" > "$scene"
-"$root/build/twinflow" "$scene" -o "$out"
+"${TWINFLOW_BIN:-$root/build/twinflow}" "$scene" -o "$out"
 rm -f "$scene"
 /usr/bin/python3 - "$out/sph/summary.json" <<'PY'
 import json, sys

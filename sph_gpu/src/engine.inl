@@ -257,7 +257,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       const std::size_t per_entry = sizeof(int) + sizeof(double) * (dim + 2); // index, A^G, A^L, system
       const std::size_t per_particle =
         sizeof(Vec<dim>) * 5 + sizeof(double) * (8 + dim) + sizeof(int) * 3 + 2 * sizeof(Tensor2<dim>);
-      return per_particle + per_entry * nl.n_entries() / n;
+      return per_particle + per_entry * nl.n_entries() / n + multigrid.memory_bytes() / n;
     }
 
     const char *backend() const override { return backend_name(); }

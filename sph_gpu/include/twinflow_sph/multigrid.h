@@ -18,6 +18,7 @@
 #include <twinflow_sph/domain.h>
 #include <twinflow_sph/linear_solver.h>
 
+#include <cstddef>
 #include <vector>
 
 namespace twinflow::sph
@@ -48,6 +49,15 @@ namespace twinflow::sph
 
       /// Number of levels including the particle level (after setup).
       int n_levels() const { return 1 + int(levels.size()); }
+      /// Device memory held by the hierarchy and its work vectors [bytes].
+      std::size_t memory_bytes() const
+      {
+        std::size_t b = sizeof(double) * (inv_diag.size() + x0.size() + f0.size() + res0.size()) +
+                        sizeof(int) * (cell.size() + sorted.size() + cell_start.size());
+        for (const Level &L : levels)
+          b += sizeof(double) * (L.stencil.size() + L.x.size() + L.f.size() + L.res.size());
+        return b;
+      }
       /// Cells (rows) of coarse level l ≥ 1.
       long long n_cells(int l) const { return levels.at(l - 1).n_total; }
 
