@@ -159,6 +159,11 @@ namespace twinflow
     prm.declare_entry("Front position file", "", Patterns::Anything(),
                       "CSV with columns T, Z (Martin & Moyce scaling: Z = x_front / a, T = t sqrt(2 g / a), "
                       "a = Monitors/Reference length); relative paths are relative to the scene file. Empty: none.");
+    prm.declare_entry("Hydrostatic pressure", "false", Patterns::Bool(),
+                      "At the end of the run, compare the pressure of the bulk fluid particles (more than 4 "
+                      "spacings below the free surface and from the walls) with rho |g| (H - dx/2 - y), H = top of "
+                      "Fluids/Initial region of fluid 1 (SPH; tolerance 1 % RMS). Needs gravity (0, -g) or "
+                      "(0, 0, -g) and an initial fluid region.");
     prm.leave_subsection();
   }
 
@@ -341,6 +346,19 @@ namespace twinflow
       std::ifstream probe(s.reference_front_file);
       require(bool(probe), "References/Front position file", front_file,
               "an existing CSV file (looked for " + s.reference_front_file + ")");
+    }
+    s.reference_hydrostatic = prm.get_bool("Hydrostatic pressure");
+    if (s.reference_hydrostatic)
+    {
+      const std::string entry = "References/Hydrostatic pressure";
+      require(s.fluid_region.has_value(), entry, "true",
+              "the hydrostatic check needs Fluids/Initial region of fluid 1 (H is the top of that region)");
+      bool downward = s.gravity[dim - 1] < 0;
+      for (int d = 0; d < dim - 1; ++d)
+        downward = downward && s.gravity[d] == 0;
+      require(downward, entry, "true",
+              "the hydrostatic check needs Forces/Gravity along the last coordinate, pointing down "
+              "(0, -g in 2D; 0, 0, -g in 3D)");
     }
     prm.leave_subsection();
 

@@ -81,6 +81,8 @@ namespace twinflow
     /// Martin & Moyce style front table (columns T, Z = x_f/a at T = t sqrt(2g/a), a = Reference
     /// length); absolute path, or empty.
     std::string reference_front_file;
+    /// Compare the final bulk pressure with rho |g| (H - dx/2 - y) (sph/hydrostatic_check.h).
+    bool reference_hydrostatic = false;
 
     bool has_free_surface() const { return fluids.size() > 1; }
     bool has_solids() const { return !solids.empty(); }
