@@ -70,8 +70,10 @@ namespace twinflow::sph
                             {"s", "J", "J", "J"}, self, "energy");
       io::CsvMonitor front(dir + "/front.csv", {"time", "x_front", "max speed"}, {"s", "m", "m/s"}, self, "front");
       io::CsvMonitor solver(dir + "/solver.csv",
-                            {"time", "dt", "velocity iterations", "pressure iterations", "pressure residual", "free-surface particles"},
-                            {"s", "s", "-", "-", "-", "-"}, self, "solver");
+                            {"time", "dt", "velocity iterations", "pressure iterations", "pressure residual", "free-surface particles",
+                             "pressure noise"},
+                            {"s", "s", "-", "-", "-", "-", "Pa"}, self, "solver");
+      double noise_sum = 0, noise_time = 0; // time average of the pressure noise
       // Fluid force on each solid (engine, doc/equations.md "Forces on solids"); columns as the
       // FEM's forces monitor so that both overlay in one plot. Solid 1: forces.csv, others
       // forces_<name>.csv. C = 2F / (rho U^2 A), A = Reference length (x depth in 3D).
@@ -134,8 +136,17 @@ namespace twinflow::sph
           }
         }
         if (r)
+        {
           solver.append({t, dt, double(r->velocity[0].iterations), double(r->pressure.iterations), r->pressure.residual,
-                         double(r->free_surface_particles)});
+                         double(r->free_surface_particles), r->pressure_noise});
+          noise_sum += r->pressure_noise * dt, noise_time += dt;
+          // relative to the hydrostatic pressure scale ρ0 |g| L_ref (or ρ0 U_ref² without gravity)
+          const double g2    = scene.gravity[0] * scene.gravity[0] + scene.gravity[1] * scene.gravity[1] +
+                               scene.gravity[2] * scene.gravity[2];
+          const double scale = fluid.density * (g2 > 0 ? std::sqrt(g2) * scene.reference_length
+                                                      : scene.reference_velocity * scene.reference_velocity);
+          result.monitors["pressure noise (time-averaged rms) / rho g L_ref"] = noise_sum / noise_time / scale;
+        }
         result.monitors["kinetic energy"] = ek;
         result.monitors["total energy"]   = ek + ep;
         result.monitors["x_front"]        = xf;

@@ -20,6 +20,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
@@ -210,6 +211,16 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       }
       else
         report.pressure = bicgstab(nl.offsets, nl.indices, values, rhs, pressure, settings.pressure_solver);
+      {
+        const int interior = thrust::transform_reduce(exec, first, last, detail::InteriorFluid{ptr(kind), ptr(surface)},
+                                                      0, thrust::plus<int>());
+        const double sum2 = thrust::transform_reduce(
+          exec, first, last,
+          detail::PressureNoise<dim>{ptr(x), ptr(kind), ptr(surface), ptr(nl.offsets), ptr(nl.indices), ptr(pressure),
+                                     ptr(V), box, W},
+          0.0, thrust::plus<double>());
+        report.pressure_noise = interior > 0 ? std::sqrt(sum2 / interior) : 0.0;
+      }
       report.t_pressure = clock.lap();
 
       // 4. correction, Eq. 58, and position update

@@ -370,6 +370,44 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
     }
   };
 
+  /// Pressure noise of an interior fluid particle (not free surface): the squared deviation of
+  /// p_i from its Shepard average over the fluid neighbours, p̄_i = Σ_F p_j V_j W_ij / Σ_F V_j W_ij;
+  /// 0 for other particles. The RMS over the interior particles measures the particle-scale
+  /// pressure oscillation (checkerboard, density-deficit noise) independently of the mean field.
+  template <int dim>
+  struct PressureNoise
+  {
+    const Vec<dim> *x;
+    const int      *kind, *surface, *offsets, *indices;
+    const double   *pressure, *V;
+    DomainBox<dim>  box;
+    CubicSpline<dim> W;
+    TWINFLOW_HD double operator()(int i) const
+    {
+      if (kind[i] != ParticleKind::fluid || surface[i])
+        return 0.0;
+      double num = 0, den = 0;
+      for (int k = offsets[i]; k < offsets[i + 1]; ++k)
+      {
+        const int j = indices[k];
+        if (kind[j] != ParticleKind::fluid)
+          continue;
+        const double w = V[j] * W.value(geometry::norm(box.difference(x[i], x[j])));
+        num += w * pressure[j];
+        den += w;
+      }
+      const double d = den > 0 ? pressure[i] - num / den : 0.0;
+      return d * d;
+    }
+  };
+
+  /// 1 for interior fluid particles (not free surface), else 0.
+  struct InteriorFluid
+  {
+    const int *kind, *surface;
+    TWINFLOW_HD int operator()(int i) const { return kind[i] == ParticleKind::fluid && !surface[i] ? 1 : 0; }
+  };
+
   /// |u_i| for fluid particles, 0 otherwise (max reduction).
   template <int dim>
   struct FluidSpeed

@@ -64,6 +64,7 @@ namespace twinflow::sph
     int          free_surface_particles = 0;
     int          correction_fallbacks   = 0;
     double       max_speed              = 0;
+    double       pressure_noise         = 0; ///< RMS of p_i − Shepard-averaged p over interior fluid [Pa]
     double       t_neighbors = 0, t_assembly = 0, t_velocity = 0, t_pressure = 0, t_update = 0;
     bool         converged() const;
   };
