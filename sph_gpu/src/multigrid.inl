@@ -320,6 +320,56 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       thrust::for_each(exec, thrust::counting_iterator<int>(0), thrust::counting_iterator<int>(int(n)), f);
     }
 
+    /// Runs a per-cell functor on the active cells of a level only.
+    template <typename F>
+    struct OnActive
+    {
+      const int *active;
+      F          f;
+      TWINFLOW_HD void operator()(int k) const { f(active[k]); }
+    };
+    template <typename F>
+    void for_active(const dvec<int> &active, const F &f)
+    {
+      for_n((long long)active.size(), OnActive<F>{ptr(active), f});
+    }
+
+    /// Level 1: a cell is active if particles lie in it.
+    struct HasParticles
+    {
+      const int *cell_start;
+      TWINFLOW_HD bool operator()(int I) const { return cell_start[I + 1] > cell_start[I]; }
+    };
+
+    /// Coarser levels: a cell is active if its stencil row is not empty.
+    template <int dim>
+    struct HasRow
+    {
+      const double *stencil;
+      TWINFLOW_HD bool operator()(int I) const
+      {
+        constexpr int S = stencil_size<dim>();
+        for (int s = 0; s < S; ++s)
+          if (stencil[(long long)I * S + s] != 0) return true;
+        return false;
+      }
+    };
+
+    struct SetZero
+    {
+      double *x;
+      TWINFLOW_HD void operator()(int I) const { x[I] = 0; }
+    };
+
+    template <typename Pred>
+    void select_active(long long n_total, const Pred &pred, dvec<int> &active)
+    {
+      active.resize(n_total);
+      const auto end = thrust::copy_if(exec, thrust::counting_iterator<int>(0),
+                                       thrust::counting_iterator<int>(int(n_total)), active.begin(), pred);
+      active.resize(end - active.begin());
+    }
+
     template <int dim, class LevelT>
     CellGrid<dim> grid_of(const LevelT &level, const bool (&periodic)[dim])
     {
@@ -388,6 +438,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       L1.stencil.resize(n_cells * S);
       for_n(n_cells, ParticleGalerkin<dim>{locate.grid, ptr(cell_start), ptr(sorted), ptr(cell), ptr(offsets_),
                                            ptr(indices_), ptr(values_), ptr(inv_diag), ptr(L1.stencil)});
+      select_active(n_cells, HasParticles{ptr(cell_start)}, L1.active);
       levels.push_back(std::move(L1));
     }
     while (levels.back().n_total > kCoarsestCells)
@@ -405,6 +456,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       if (!coarser) break;
       C.stencil.resize(C.n_total * S);
       for_n(C.n_total, CellGalerkin<dim>{grid_of<dim>(F, periodic), grid_of<dim>(C, periodic), ptr(F.stencil), ptr(C.stencil)});
+      select_active(C.n_total, HasRow<dim>{ptr(C.stencil)}, C.active);
       levels.push_back(std::move(C));
     }
     for (Level &L : levels)
@@ -426,7 +478,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       residual(), for_n(n, AddScaled{ptr(res0), ptr(x0), omega});
     residual();
     const Level &L1 = levels.front();
-    for_n(L1.n_total, ParticleRestrict{ptr(cell_start), ptr(sorted), ptr(res0), ptr(L1.f)});
+    for_active(L1.active, ParticleRestrict{ptr(cell_start), ptr(sorted), ptr(res0), ptr(L1.f)});
     cycle(0);
     for_n(n, ParticleProlong{ptr(cell), ptr(L1.x), ptr(x0), settings.over_correction});
     for (int k = 0; k < settings.smoothing_steps; ++k)
@@ -442,10 +494,10 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     const Level  &L     = levels[l];
     const auto    grid  = grid_of<dim>(L, periodic);
     const double  omega = settings.jacobi_damping;
-    thrust::fill(exec, L.x.begin(), L.x.end(), 0.0);
+    for_active(L.active, SetZero{ptr(L.x)}); // inactive cells are never written: they stay 0
     auto sweep = [&] {
-      for_n(L.n_total, CellResidual<dim>{grid, ptr(L.stencil), ptr(L.x), ptr(L.f), ptr(L.res)});
-      for_n(L.n_total, CellJacobi<dim>{ptr(L.stencil), ptr(L.res), ptr(L.x), omega});
+      for_active(L.active, CellResidual<dim>{grid, ptr(L.stencil), ptr(L.x), ptr(L.f), ptr(L.res)});
+      for_active(L.active, CellJacobi<dim>{ptr(L.stencil), ptr(L.res), ptr(L.x), omega});
     };
     if (l + 1 == int(levels.size()))
     {
@@ -454,10 +506,10 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     }
     for (int k = 0; k < settings.smoothing_steps; ++k) sweep();
     const Level &C = levels[l + 1];
-    for_n(L.n_total, CellResidual<dim>{grid, ptr(L.stencil), ptr(L.x), ptr(L.f), ptr(L.res)});
-    for_n(C.n_total, CellRestrict<dim>{grid, grid_of<dim>(C, periodic), ptr(L.res), ptr(C.f)});
+    for_active(L.active, CellResidual<dim>{grid, ptr(L.stencil), ptr(L.x), ptr(L.f), ptr(L.res)});
+    for_active(C.active, CellRestrict<dim>{grid, grid_of<dim>(C, periodic), ptr(L.res), ptr(C.f)});
     cycle(l + 1);
-    for_n(L.n_total, CellProlong<dim>{grid, grid_of<dim>(C, periodic), ptr(C.x), ptr(L.x), settings.over_correction});
+    for_active(L.active, CellProlong<dim>{grid, grid_of<dim>(C, periodic), ptr(C.x), ptr(L.x), settings.over_correction});
     for (int k = 0; k < settings.smoothing_steps; ++k) sweep();
   }
 

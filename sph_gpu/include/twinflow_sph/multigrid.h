@@ -12,8 +12,9 @@
  * the Galerkin products Pᵀ Â P, stored as 3^dim-point stencils on the structured cell grids
  * (no sparse matrix–matrix product, no sort beyond the particles' cell order). The cycle is
  * a V(ν,ν) cycle with damped Jacobi smoothing and a scaled coarse-grid correction; the
- * coarsest level (≤ 64 cells) is smoothed to convergence. It is a fixed linear operator, as
- * BiCGStab requires.
+ * coarsest level (≤ 64 cells) is smoothed to convergence. Only the cells with particles below
+ * them are visited (the dense grids cover the bounding box, mostly empty in a dam break). It is
+ * a fixed linear operator, as BiCGStab requires.
  */
 #include <twinflow_sph/domain.h>
 #include <twinflow_sph/linear_solver.h>
@@ -55,7 +56,8 @@ namespace twinflow::sph
         std::size_t b = sizeof(double) * (inv_diag.size() + x0.size() + f0.size() + res0.size()) +
                         sizeof(int) * (cell.size() + sorted.size() + cell_start.size());
         for (const Level &L : levels)
-          b += sizeof(double) * (L.stencil.size() + L.x.size() + L.f.size() + L.res.size());
+          b += sizeof(double) * (L.stencil.size() + L.x.size() + L.f.size() + L.res.size()) +
+               sizeof(int) * L.active.size();
         return b;
       }
       /// Cells (rows) of coarse level l ≥ 1.
@@ -67,6 +69,7 @@ namespace twinflow::sph
         long long    n[dim];   ///< cells per direction
         long long    n_total = 0;
         dvec<double> stencil;  ///< 3^dim values per cell: the Galerkin operator
+        dvec<int>    active;   ///< cells with a row (particles below them); the others stay 0
         mutable dvec<double> x, f, res;
       };
 
