@@ -7,6 +7,8 @@
 #include <twinflow/sph/sph_simulation.h>
 #include <twinflow_sph/engine.h>
 
+#include "water_tank.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -26,15 +28,7 @@ namespace
   Buoyancy submerged_disk(const double dx, const double R)
   {
     const double rho = 1000, g = 9.8;
-    Scene        scene;
-    scene.dimension    = 2;
-    scene.domain.lower = {{0, 0, 0}};
-    scene.domain.upper = {{0.6, 0.6, 0}};
-    Region water;
-    water.upper        = {{0.6, 0.5, 0}};
-    scene.fluid_region = water;
-    scene.fluids.push_back({"water", rho, 1e-3});
-    scene.gravity = {{0, -g, 0}};
+    Scene        scene = twinflow::testing::water_tank(0.6, 0.6, 0.5);
     Solid disk;
     disk.name   = "disk";
     disk.shape  = "disk";

@@ -6,6 +6,8 @@
 #include <twinflow/sph/sph_simulation.h>
 #include <twinflow_sph/engine.h>
 
+#include "water_tank.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -18,16 +20,7 @@ namespace
 {
   HydrostaticCheck still_water(bool consistent, double alpha, PressureWall walls)
   {
-    Scene scene;
-    scene.dimension    = 2;
-    scene.domain.lower = {{0, 0, 0}};
-    scene.domain.upper = {{0.5, 0.6, 0}};
-    Region water;
-    water.lower        = {{0, 0, 0}};
-    water.upper        = {{0.5, 0.4, 0}};
-    scene.fluid_region = water;
-    scene.fluids.push_back({"water", 1000, 1e-3});
-    scene.gravity = {{0, -9.8, 0}};
+    const Scene scene = twinflow::testing::water_tank(0.5, 0.6, 0.4);
 
     const double dx = 0.02, H = 0.4, rho = 1000, g = 9.8;
     HostParticles<2> P;
