@@ -268,7 +268,8 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       const std::size_t per_entry = sizeof(int) + sizeof(double) * (dim + 2); // index, A^G, A^L, system
       const std::size_t per_particle =
         sizeof(Vec<dim>) * 5 + sizeof(double) * (8 + dim) + sizeof(int) * 3 + 2 * sizeof(Tensor2<dim>);
-      return per_particle + per_entry * nl.n_entries() / n + multigrid.memory_bytes() / n;
+      const std::size_t krylov = 9 * sizeof(double); // BiCGStab work vectors (linear_solver.inl)
+      return per_particle + krylov + per_entry * nl.n_entries() / n + multigrid.memory_bytes() / n;
     }
 
     const char *backend() const override { return backend_name(); }

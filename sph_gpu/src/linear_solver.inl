@@ -125,7 +125,17 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     if (bnorm == 0) { thrust::fill(exec, x.begin(), x.end(), 0.0); result.converged = true; return result; }
     const double target = settings.tolerance * bnorm;
 
-    dvec<double> r(n), r_hat(n), p(n), v(n), p_hat(n), s(n), s_hat(n), t(n), x_best(x);
+    // Work vectors, kept between calls (a solve per step and component: no allocation and
+    // first-touch of ~9 n doubles each time). Deliberately never freed: a static device vector
+    // would be destroyed after the CUDA runtime at exit.
+    struct Workspace { dvec<double> r, r_hat, p, v, p_hat, s, s_hat, t, x_best; };
+    static Workspace *work = new Workspace;
+    for (dvec<double> *w : {&work->r, &work->r_hat, &work->p, &work->v, &work->p_hat, &work->s, &work->s_hat, &work->t,
+                            &work->x_best})
+      if (int(w->size()) != n) w->resize(n);
+    dvec<double> &r = work->r, &r_hat = work->r_hat, &p = work->p, &v = work->v, &p_hat = work->p_hat, &s = work->s,
+                 &s_hat = work->s_hat, &t = work->t, &x_best = work->x_best;
+    thrust::copy(exec, x.begin(), x.end(), x_best.begin());
     double r_norm = residual(A, b, x, r), best = r_norm, r_hat_norm = 0, rho_old = 1, alpha = 1, omega = 1;
     bool   restart = true;
     int    it      = 0;
