@@ -6,6 +6,7 @@
 #include <twinflow_sph/operators.h>
 
 #include "engine_functors.inl"
+#include "confined_pressure.inl"
 #include "solid_force.inl"
 
 #include <thrust/copy.h>

@@ -94,48 +94,6 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
     }
   };
 
-  /// V_i (or V_i rhs_i) for the fluid rows of a confined flow's pressure system (not the pin).
-  struct ConfinedFluidRowWeight
-  {
-    const int    *kind;
-    const double *V, *rhs;
-    int           pinned;
-    TWINFLOW_HD double operator()(int i) const
-    {
-      if (kind[i] != ParticleKind::fluid || i == pinned)
-        return 0.0;
-      return rhs ? V[i] * rhs[i] : V[i];
-    }
-  };
-
-  struct ShiftConfinedFluidRows
-  {
-    const int *kind;
-    int        pinned;
-    double     mean;
-    double    *rhs;
-    TWINFLOW_HD void operator()(int i) const
-    {
-      if (kind[i] == ParticleKind::fluid && i != pinned)
-        rhs[i] -= mean;
-    }
-  };
-
-  struct ShiftFluidDiagonal
-  {
-    const int *kind, *offsets, *indices;
-    double     epsilon;
-    double    *values;
-    TWINFLOW_HD void operator()(int i) const
-    {
-      if (kind[i] != ParticleKind::fluid)
-        return;
-      for (int k = offsets[i]; k < offsets[i + 1]; ++k)
-        if (indices[k] == i)
-          values[k] -= epsilon;
-    }
-  };
-
   template <int dim>
   struct VecPlus
   {
