@@ -421,46 +421,58 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     // particles in cell order
     cell.resize(n), sorted.resize(n), cell_start.resize(n_cells + 1);
     thrust::transform(exec, x.begin(), x.end(), cell.begin(), locate);
-    dvec<int> keys(cell);
+    keys.assign(cell.begin(), cell.end());
     thrust::sequence(exec, sorted.begin(), sorted.end());
     thrust::sort_by_key(exec, keys.begin(), keys.end(), sorted.begin());
     thrust::lower_bound(exec, keys.begin(), keys.end(), thrust::counting_iterator<int>(0),
                         thrust::counting_iterator<int>(int(n_cells) + 1), cell_start.begin());
 
     // level 1 from the particles, then 2^dim-coarsening down to ≤ kCoarsestCells cells
-    levels.clear();
-    levels.reserve(32);
+    // The levels' arrays are kept between setups (one per step): only resized, not reallocated.
     constexpr int S = stencil_size<dim>();
+    std::size_t   used = 0;
+    levels.reserve(64); // each level halves the cells: never exceeded, so references stay valid
+    auto next_level = [&]() -> Level & {
+      if (levels.size() <= used) levels.emplace_back();
+      return levels[used++];
+    };
     {
-      Level L1;
+      Level &L1 = next_level();
       for (int d = 0; d < dim; ++d) L1.n[d] = locate.grid.n[d];
       L1.n_total = n_cells;
       L1.stencil.resize(n_cells * S);
       for_n(n_cells, ParticleGalerkin<dim>{locate.grid, ptr(cell_start), ptr(sorted), ptr(cell), ptr(offsets_),
                                            ptr(indices_), ptr(values_), ptr(inv_diag), ptr(L1.stencil)});
       select_active(n_cells, HasParticles{ptr(cell_start)}, L1.active);
-      levels.push_back(std::move(L1));
     }
-    while (levels.back().n_total > kCoarsestCells)
+    while (levels[used - 1].n_total > kCoarsestCells && used < 64)
     {
-      const Level &F = levels.back();
-      Level        C;
-      C.n_total = 1;
-      bool coarser = false;
+      const Level &F = levels[used - 1];
+      long long    n_coarse[dim], total = 1;
+      bool         coarser = false;
       for (int d = 0; d < dim; ++d)
       {
-        C.n[d] = (F.n[d] + 1) / 2;
-        coarser = coarser || C.n[d] < F.n[d];
-        C.n_total *= C.n[d];
+        n_coarse[d] = (F.n[d] + 1) / 2;
+        coarser     = coarser || n_coarse[d] < F.n[d];
+        total *= n_coarse[d];
       }
       if (!coarser) break;
+      Level &C = next_level();
+      for (int d = 0; d < dim; ++d) C.n[d] = n_coarse[d];
+      C.n_total = total;
       C.stencil.resize(C.n_total * S);
       for_n(C.n_total, CellGalerkin<dim>{grid_of<dim>(F, periodic), grid_of<dim>(C, periodic), ptr(F.stencil), ptr(C.stencil)});
       select_active(C.n_total, HasRow<dim>{ptr(C.stencil)}, C.active);
-      levels.push_back(std::move(C));
     }
+    levels.resize(used);
     for (Level &L : levels)
+    {
+      // inactive cells must hold 0 (they are never written by the cycle)
       L.x.resize(L.n_total), L.f.resize(L.n_total), L.res.resize(L.n_total);
+      thrust::fill(exec, L.x.begin(), L.x.end(), 0.0);
+      thrust::fill(exec, L.f.begin(), L.f.end(), 0.0);
+      thrust::fill(exec, L.res.begin(), L.res.end(), 0.0);
+    }
   }
 
   template <int dim>

@@ -81,7 +81,7 @@ namespace twinflow::sph
       const dvec<int>    *offsets = nullptr, *indices = nullptr;
       const dvec<double> *values  = nullptr;
       dvec<double>        inv_diag;
-      dvec<int>           cell, sorted, cell_start;
+      dvec<int>           cell, sorted, cell_start, keys;
       mutable dvec<double> x0, f0, res0;
       std::vector<Level>  levels;
     };
