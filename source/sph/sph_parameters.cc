@@ -40,6 +40,9 @@ namespace twinflow::sph
     prm.declare_entry("Pressure preconditioner", "multigrid", Patterns::Selection("multigrid|jacobi"),
                       "Preconditioner of the pressure BiCGStab: multigrid (cell aggregation, iterations nearly "
                       "independent of the particle count) or jacobi.");
+    prm.declare_entry("Positive-definite Laplacian correction", "false", Patterns::Bool(),
+                      "Consistent operators: a non-surface particle whose L_i is not positive definite gets the "
+                      "standard Laplacian row (keeps the pressure rows elliptic in splashing flows).");
     prm.declare_entry("Max iterations", "2000", Patterns::Integer(1), "Iteration cap of the BiCGStab solves.");
     prm.leave_subsection();
   }
@@ -63,6 +66,7 @@ namespace twinflow::sph
     solver_tolerance = prm.get_double("Solver tolerance");
     max_iterations   = prm.get_integer("Max iterations");
     multigrid        = prm.get("Pressure preconditioner") == "multigrid";
+    positive_definite_laplacian = prm.get_bool("Positive-definite Laplacian correction");
     prm.leave_subsection();
     const auto b = available_backends();
     if (std::find(b.begin(), b.end(), backend) == b.end())

@@ -354,6 +354,7 @@ namespace twinflow::sph
     s.velocity_solver = {prm.max_iterations, prm.solver_tolerance};
     s.pressure_solver = {prm.max_iterations, prm.solver_tolerance};
     s.pressure_preconditioner = prm.multigrid ? PressurePreconditioner::multigrid : PressurePreconditioner::jacobi;
+    s.correction_checks.positive_definite_laplacian = prm.positive_definite_laplacian;
     return s;
   }
 

@@ -78,6 +78,27 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       return true;
     }
 
+    /// A Laplacian correction L (symmetric) that is not positive definite turns the row of
+    /// A^L from an elliptic (negative-diagonal, diffusive) one into an indefinite one. In
+    /// sparse or distorted neighbourhoods (splash) such rows gave a tiny diagonal and an
+    /// arbitrary pressure: 9.5e5 Pa in a 0.5 m deep pool, and a 19 m/s kick in one step
+    /// (doc/benchmarks.md). Sylvester's criterion (leading minors > 0).
+    template <int dim>
+    TWINFLOW_HD inline bool positive_definite(const Tensor2<dim> &L)
+    {
+      const double m1 = L.a[0][0];
+      const double m2 = L.a[0][0] * L.a[1][1] - L.a[0][1] * L.a[1][0];
+      if constexpr (dim == 2)
+        return m1 > 0 && m2 > 0;
+      else
+      {
+        const double m3 = L.a[0][0] * (L.a[1][1] * L.a[2][2] - L.a[1][2] * L.a[2][1]) -
+                          L.a[0][1] * (L.a[1][0] * L.a[2][2] - L.a[1][2] * L.a[2][0]) +
+                          L.a[0][2] * (L.a[1][0] * L.a[2][1] - L.a[1][1] * L.a[2][0]);
+        return m1 > 0 && m2 > 0 && m3 > 0;
+      }
+    }
+
     /// Solves K y = b (N × N, overwritten) by Gaussian elimination with partial pivoting;
     /// false if a pivot is below kLPivotTolerance · max |K| or the result is not finite.
     template <int N>
@@ -191,6 +212,8 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       CubicSpline<dim>          W;
       Tensor2<dim>             *G, *L;
       int                      *fallback;
+      CorrectionChecks          checks;
+      const int                *surface; ///< free-surface flags (p = 0 rows: L only enters viscosity), or null
 
       TWINFLOW_HD void operator()(const int i) const
       {
@@ -288,6 +311,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
         }
         Tensor2<dim> Li;
         const bool   l_ok = solve<NL>(K, b, y);
+        bool         l_ok_final = l_ok;
         if (l_ok)
           for (int a = 0; a < NL; ++a)
           {
@@ -296,8 +320,14 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
           }
         else
           Li = identity<dim>();
+        // pressure rows of p = 0 (surface) particles do not use L: only the check's own rows
+        if (l_ok && checks.positive_definite_laplacian && !(surface && surface[i]) && !positive_definite<dim>(Li))
+        {
+          Li         = identity<dim>();
+          l_ok_final = false;
+        }
         L[i]        = Li;
-        fallback[i] = (g_ok && l_ok) ? 0 : 1;
+        fallback[i] = (g_ok && l_ok_final) ? 0 : 1;
       }
     };
 
@@ -412,7 +442,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
   template <int dim>
   int compute_corrections(const dvec<Vec<dim>> &x, const dvec<double> &V, const NeighborList &nl,
                           const DomainBox<dim> &box, const CubicSpline<dim> &W, dvec<Tensor2<dim>> &G,
-                          dvec<Tensor2<dim>> &L)
+                          dvec<Tensor2<dim>> &L, const CorrectionChecks &checks, const int *surface)
   {
     const int n = static_cast<int>(x.size());
     G.resize(n);
@@ -421,7 +451,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       return 0;
     dvec<int>                           fallback(n);
     operators_detail::CorrectionF<dim> f{ptr(x), ptr(V), ptr(nl.offsets), ptr(nl.indices), box, W,
-                                         ptr(G), ptr(L), ptr(fallback)};
+                                         ptr(G), ptr(L), ptr(fallback), checks, surface};
     thrust::counting_iterator<int> first(0);
     thrust::for_each(exec, first, first + n, f);
     return thrust::reduce(exec, fallback.begin(), fallback.end(), 0);
@@ -460,7 +490,8 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
                                      const CubicSpline<dim> &, dvec<double> &);                              \
   template int  compute_corrections<dim>(const dvec<Vec<dim>> &, const dvec<double> &, const NeighborList &, \
                                         const DomainBox<dim> &, const CubicSpline<dim> &,                   \
-                                        dvec<Tensor2<dim>> &, dvec<Tensor2<dim>> &);                        \
+                                        dvec<Tensor2<dim>> &, dvec<Tensor2<dim>> &,                         \
+                                        const CorrectionChecks &, const int *);                             \
   template void assemble_operators<dim>(const dvec<Vec<dim>> &, const dvec<double> &, const NeighborList &,  \
                                         const DomainBox<dim> &, const CubicSpline<dim> &, OperatorKind,      \
                                         const dvec<Tensor2<dim>> &, const dvec<Tensor2<dim>> &,              \

@@ -542,6 +542,84 @@ namespace
     EXPECT_EQ(host(s.consistent.gradient[0])[k], 0.0);
   }
 
+  /// The positive-definite check on L (CorrectionChecks, used for splashing flows): on a
+  /// perturbed lattice, the truncated outer layers need indefinite L for exactness; with the
+  /// check those particles get L = I, all others (and flagged surface particles) keep theirs,
+  /// so the interior rows stay exact for quadratics.
+  template <int dim>
+  void check_positive_definite_laplacian()
+  {
+    const int    N  = dim == 2 ? 30 : 14;
+    const double dx = 1.0 / N, h = 1.2 * dx;
+    const DomainBox<dim>  box = make_box<dim>(0, 1, std::vector<bool>(dim, false));
+    const std::vector<Vec<dim>> xh = lattice<dim>(N, 0.2, 42);
+    Problem<dim>          s(box, h, xh); // no checks
+    const auto            L_free = host(s.L);
+    auto                  spd    = [](const Tensor2<dim> &t) {
+      double m2 = t.a[0][0] * t.a[1][1] - t.a[0][1] * t.a[1][0];
+      if constexpr (dim == 3)
+      {
+        const double m3 = t.a[0][0] * (t.a[1][1] * t.a[2][2] - t.a[1][2] * t.a[2][1]) -
+                          t.a[0][1] * (t.a[1][0] * t.a[2][2] - t.a[1][2] * t.a[2][0]) +
+                          t.a[0][2] * (t.a[1][0] * t.a[2][1] - t.a[1][1] * t.a[2][0]);
+        return t.a[0][0] > 0 && m2 > 0 && m3 > 0;
+      }
+      return t.a[0][0] > 0 && m2 > 0;
+    };
+    int indefinite = 0, indefinite_interior = 0;
+    for (std::size_t i = 0; i < xh.size(); ++i)
+      if (!spd(L_free[i]))
+      {
+        ++indefinite;
+        indefinite_interior += particle_class(xh[i], h) == 0;
+      }
+
+    // with the check: exactly the indefinite ones are replaced by the identity
+    dvec<Tensor2<dim>> G, L;
+    sph::CorrectionChecks checks;
+    checks.positive_definite_laplacian = true;
+    const int replaced = sph::cpu::compute_corrections(s.x, s.V, s.nl, box, s.W, G, L, checks);
+    const auto L_checked = host(L);
+    int changed = 0;
+    for (std::size_t i = 0; i < xh.size(); ++i)
+    {
+      EXPECT_TRUE(spd(L_checked[i]));
+      bool same = true;
+      for (int m = 0; m < dim; ++m)
+        for (int n = 0; n < dim; ++n)
+          same = same && L_checked[i].a[m][n] == L_free[i].a[m][n];
+      changed += !same;
+    }
+    std::cout << dim << "D perturbed lattice: " << indefinite << " of " << xh.size()
+              << " particles have an indefinite L (" << indefinite_interior << " in the interior); replaced "
+              << replaced << "\n";
+    EXPECT_GT(indefinite, 0);
+    EXPECT_EQ(indefinite_interior, 0);
+    EXPECT_EQ(replaced, indefinite);
+    EXPECT_EQ(changed, indefinite);
+
+    // interior rows are untouched: the Laplacian of a quadratic stays exact there
+    OperatorMatrices<dim> A;
+    sph::cpu::assemble_operators(s.x, s.V, s.nl, box, s.W, OperatorKind::consistent, G, L, A);
+    std::vector<double> f(xh.size());
+    for (std::size_t i = 0; i < xh.size(); ++i)
+      for (int d = 0; d < dim; ++d)
+        f[i] += 0.5 * xh[i][d] * xh[i][d];
+    const auto lap = apply(s.nl, A.laplacian, f);
+    double     err = 0;
+    for (std::size_t i = 0; i < xh.size(); ++i)
+      if (particle_class(xh[i], h) == 0)
+        err = std::max(err, std::abs(lap[i] - dim));
+    EXPECT_LT(err, 1e-10 * dim);
+
+    // particles flagged as free surface are not checked (p = 0 rows)
+    dvec<int> surface(std::vector<int>(xh.size(), 1));
+    EXPECT_EQ(sph::cpu::compute_corrections(s.x, s.V, s.nl, box, s.W, G, L, checks, thrust::raw_pointer_cast(surface.data())), 0);
+  }
+
+  TEST(SphOperators, PositiveDefiniteLaplacianCheck2D) { check_positive_definite_laplacian<2>(); }
+  TEST(SphOperators, PositiveDefiniteLaplacianCheck3D) { check_positive_definite_laplacian<3>(); }
+
   TEST(SphOperators, IsolatedParticle2D) { check_isolated<2>(); }
   TEST(SphOperators, IsolatedParticle3D) { check_isolated<3>(); }
 } // namespace

@@ -34,6 +34,7 @@ namespace twinflow::sph
     double      solver_tolerance = 1e-8;
     int         max_iterations   = 2000;
     bool        multigrid        = true;   ///< pressure preconditioner: multigrid (else Jacobi)
+    bool        positive_definite_laplacian = false; ///< L_i = I where L_i is not SPD
 
     static void declare(dealii::ParameterHandler &prm);
     void        parse(dealii::ParameterHandler &prm);

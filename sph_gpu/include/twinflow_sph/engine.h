@@ -41,6 +41,8 @@ namespace twinflow::sph
     std::array<double, 3> gravity{{0, 0, 0}};      ///< g of Eq. 61/64
     SolverSettings     velocity_solver, pressure_solver;
     PressurePreconditioner pressure_preconditioner = PressurePreconditioner::multigrid;
+    /// conditioning checks of the consistent corrections (CorrectionChecks; default: none)
+    CorrectionChecks   correction_checks;
   };
 
   /// Particles in host memory (structure of arrays).

@@ -9,6 +9,15 @@ namespace twinflow::sph
     double tolerance      = 1e-8;   ///< on ||b − A x|| / ||b||
   };
 
+  /// Conditioning checks of the consistent-operator corrections (operators.inl). With
+  /// positive_definite_laplacian, a non-surface particle whose L_i is not positive definite
+  /// gets L_i = I (the standard Laplacian row). Off: exact second-order consistency wherever
+  /// the support allows it.
+  struct CorrectionChecks
+  {
+    bool positive_definite_laplacian = false;
+  };
+
   struct SolverResult
   {
     int    iterations = 0;
