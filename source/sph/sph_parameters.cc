@@ -40,6 +40,10 @@ namespace twinflow::sph
     prm.declare_entry("Pressure preconditioner", "multigrid", Patterns::Selection("multigrid|jacobi"),
                       "Preconditioner of the pressure BiCGStab: multigrid (cell aggregation, iterations nearly "
                       "independent of the particle count) or jacobi.");
+    prm.declare_entry("Density error relaxation", "step", Patterns::Selection("step|reference step"),
+                      "Time over which the density-invariance source (Eq. 55/57) removes the density error: the "
+                      "current step (the paper) or the reference step min(Time step, CFL h / Monitors/Reference "
+                      "velocity), so that a CFL step shortened by a few fast particles does not stiffen it as 1/dt^2.");
     prm.declare_entry("Positive-definite Laplacian correction", "false", Patterns::Bool(),
                       "Consistent operators: a non-surface particle whose L_i is not positive definite gets the "
                       "standard Laplacian row (keeps the pressure rows elliptic in splashing flows).");
@@ -66,6 +70,7 @@ namespace twinflow::sph
     solver_tolerance = prm.get_double("Solver tolerance");
     max_iterations   = prm.get_integer("Max iterations");
     multigrid        = prm.get("Pressure preconditioner") == "multigrid";
+    relax_over_reference_step   = prm.get("Density error relaxation") == "reference step";
     positive_definite_laplacian = prm.get_bool("Positive-definite Laplacian correction");
     prm.leave_subsection();
     const auto b = available_backends();

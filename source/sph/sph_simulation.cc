@@ -355,6 +355,9 @@ namespace twinflow::sph
     s.pressure_solver = {prm.max_iterations, prm.solver_tolerance};
     s.pressure_preconditioner = prm.multigrid ? PressurePreconditioner::multigrid : PressurePreconditioner::jacobi;
     s.correction_checks.positive_definite_laplacian = prm.positive_definite_laplacian;
+    if (prm.relax_over_reference_step) // the step the run takes while no particle is faster than U_ref
+      s.density_relaxation_time =
+        prm.cfl > 0 ? std::min(prm.time_step, prm.cfl * s.h / scene.reference_velocity) : prm.time_step;
     return s;
   }
 

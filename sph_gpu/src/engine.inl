@@ -200,7 +200,8 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       regularise_confined_pressure_matrix(); // confined flows only
       detail::PressureRhs<dim> pr{ptr(x), ptr(wall_acceleration), ptr(kind), ptr(nl.offsets), ptr(nl.indices),
                                   ptr(surface), ptr(div_u), ptr(rho), ptr(support), box, W, dt, settings.rho0,
-                                  settings.alpha, {}, neumann, pinned, ptr(rhs)};
+                                  settings.alpha, {}, neumann, pinned, ptr(rhs),
+                                  std::max(dt, settings.density_relaxation_time)};
       for (int d = 0; d < dim; ++d)
         pr.g[d] = settings.gravity[d];
       thrust::for_each(exec, first, last, pr);

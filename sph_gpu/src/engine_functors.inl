@@ -152,6 +152,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
     bool            neumann;
     int             pinned;
     double         *rhs;
+    double          relaxation_time; ///< time over which the density error is removed (≥ dt)
     TWINFLOW_HD void operator()(int i) const
     {
       if (kind[i] == ParticleKind::fluid)
@@ -167,7 +168,8 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
         // densities below ρ0 near a free surface are a kernel deficit, not an expansion.
         const double rho_star = rho[i] - dt * rho[i] * div_u[i];
         const double deficit  = rho0 - rho_star < 0.0 ? rho0 - rho_star : 0.0;
-        rhs[i] = alpha * deficit / (rho0 * dt * dt) + (1.0 - alpha) * div_u[i] / dt;
+        // The density error is removed over relaxation_time (Δt in Eq. 55 as written: ρ0/Δt²).
+        rhs[i] = alpha * deficit / (rho0 * dt * relaxation_time) + (1.0 - alpha) * div_u[i] / dt;
         return;
       }
       if (support[i] <= 0 || neumann)

@@ -19,7 +19,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
   namespace multigrid_detail
   {
     template <int dim>
-    constexpr int stencil_size() { return dim == 2 ? 9 : 27; }
+    TWINFLOW_HD constexpr int stencil_size() { return dim == 2 ? 9 : 27; }
 
     /// A structured grid of cells: coordinates ↔ ids, neighbours with periodic wrap.
     template <int dim>

@@ -35,6 +35,7 @@ namespace twinflow::sph
     int         max_iterations   = 2000;
     bool        multigrid        = true;   ///< pressure preconditioner: multigrid (else Jacobi)
     bool        positive_definite_laplacian = false; ///< L_i = I where L_i is not SPD
+    bool        relax_over_reference_step   = false; ///< density error removed over Δt_ref, not Δt
 
     static void declare(dealii::ParameterHandler &prm);
     void        parse(dealii::ParameterHandler &prm);

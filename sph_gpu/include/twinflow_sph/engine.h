@@ -41,6 +41,10 @@ namespace twinflow::sph
     std::array<double, 3> gravity{{0, 0, 0}};      ///< g of Eq. 61/64
     SolverSettings     velocity_solver, pressure_solver;
     PressurePreconditioner pressure_preconditioner = PressurePreconditioner::multigrid;
+    /// time over which the density-invariance term of Eq. 55/57 removes the density error:
+    /// max(Δt, this); 0: Δt (the paper). A longer time keeps a CFL step shortened by a few fast
+    /// particles from stiffening the correction as 1/Δt² (fast particle → small Δt → larger kicks)
+    double             density_relaxation_time = 0;
     /// conditioning checks of the consistent corrections (CorrectionChecks; default: none)
     CorrectionChecks   correction_checks;
   };
