@@ -145,7 +145,8 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
                                                       ptr(rho), ptr(support), ptr(surface)});
       report.free_surface_particles = thrust::reduce(exec, surface.begin(), surface.end(), 0);
       if (settings.consistent)
-        report.correction_fallbacks = compute_corrections<dim>(x, V, nl, box, W, G, L, settings.correction_checks, ptr(surface));
+        report.correction_fallbacks =
+          compute_corrections<dim>(x, V, nl, box, W, G, L, settings.correction_checks, ptr(surface));
       assemble_operators<dim>(x, V, nl, box, W, settings.consistent ? OperatorKind::consistent : OperatorKind::standard,
                               G, L, A);
       values.resize(nl.n_entries());

@@ -310,8 +310,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
               K[a][c] += coef[a] * col[c];
         }
         Tensor2<dim> Li;
-        const bool   l_ok = solve<NL>(K, b, y);
-        bool         l_ok_final = l_ok;
+        bool         l_ok = solve<NL>(K, b, y);
         if (l_ok)
           for (int a = 0; a < NL; ++a)
           {
@@ -320,14 +319,14 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
           }
         else
           Li = identity<dim>();
-        // pressure rows of p = 0 (surface) particles do not use L: only the check's own rows
+        // surface particles are skipped: their pressure rows are p = 0
         if (l_ok && checks.positive_definite_laplacian && !(surface && surface[i]) && !positive_definite<dim>(Li))
         {
-          Li         = identity<dim>();
-          l_ok_final = false;
+          Li   = identity<dim>();
+          l_ok = false;
         }
         L[i]        = Li;
-        fallback[i] = (g_ok && l_ok_final) ? 0 : 1;
+        fallback[i] = (g_ok && l_ok) ? 0 : 1;
       }
     };
 
