@@ -1,5 +1,5 @@
 #pragma once
-/// @file solver_settings.h  Settings and result of the SPH Krylov solves (no Thrust: host-safe).
+/// @file solver_settings.h  Settings of the SPH solves and operator corrections, and solve results (no Thrust: host-safe).
 
 namespace twinflow::sph
 {
