@@ -8,6 +8,7 @@
 #include <twinflow/io/pvd_series.h>
 #include <twinflow/io/reference_data.h>
 #include <twinflow/io/summary.h>
+#include <twinflow/sph/front.h>
 #include <twinflow/sph/hydrostatic_check.h>
 #include <twinflow/sph/sph_simulation.h>
 
@@ -68,7 +69,10 @@ namespace twinflow::sph
       MPI_Comm self = MPI_COMM_SELF;
       io::CsvMonitor energy(dir + "/energy.csv", {"time", "kinetic energy", "potential energy", "total energy"},
                             {"s", "J", "J", "J"}, self, "energy");
-      io::CsvMonitor front(dir + "/front.csv", {"time", "x_front", "max speed"}, {"s", "m", "m/s"}, self, "front");
+      // x_front: leading edge of the connected water (sph/front.h); x_foremost: of any particle,
+      // spray included
+      io::CsvMonitor front(dir + "/front.csv", {"time", "x_front", "max speed", "x_foremost"}, {"s", "m", "m/s", "m"},
+                           self, "front");
       io::CsvMonitor solver(dir + "/solver.csv",
                             {"time", "dt", "velocity iterations", "pressure iterations", "pressure residual", "free-surface particles",
                              "pressure noise"},
@@ -101,7 +105,7 @@ namespace twinflow::sph
       std::vector<double> front_t, front_x;
       auto monitors = [&](double t, double dt, const StepReport *r) {
         engine->get_particles(P);
-        double ek = 0, ep = 0, xf = -1e300;
+        double ek = 0, ep = 0;
         for (std::size_t i = 0; i < P.size(); ++i)
           if (P.kind[i] == ParticleKind::fluid)
           {
@@ -113,10 +117,10 @@ namespace twinflow::sph
             }
             ek += 0.5 * m0 * u2;
             ep -= m0 * gx;
-            xf = std::max(xf, P.x[i][0] + 0.5 * prm.spacing);
           }
+        const double xf = surge_front(P, prm.spacing);
         energy.append({t, ek, ep, ek + ep});
-        front.append({t, xf, engine->max_fluid_speed()});
+        front.append({t, xf, engine->max_fluid_speed(), foremost_particle(P, prm.spacing)});
         front_t.push_back(t);
         front_x.push_back(xf);
         for (std::size_t b = 0; b < forces_csv.size(); ++b)

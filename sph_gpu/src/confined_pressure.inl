@@ -34,6 +34,13 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
     }
   };
 
+  /// values[i] −= shift, every particle.
+  struct ShiftAll
+  {
+    double  shift;
+    double *values;
+    TWINFLOW_HD void operator()(int i) const { values[i] -= shift; }
+  };
   struct ShiftFluidDiagonal
   {
     const int *kind, *offsets, *indices;

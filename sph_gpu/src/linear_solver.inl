@@ -138,7 +138,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     thrust::copy(exec, x.begin(), x.end(), x_best.begin());
     double r_norm = residual(A, b, x, r), best = r_norm, r_hat_norm = 0, rho_old = 1, alpha = 1, omega = 1;
     bool   restart = true;
-    int    it      = 0;
+    int    it = 0, last_restart = -1;
     // r is the unpreconditioned residual (right preconditioning). When its recurrence claims
     // convergence the true residual is recomputed; if that disagrees the iteration restarts from it.
     // The iterate of least residual is kept: a failed solve (breakdown, iteration limit, singular
@@ -148,19 +148,33 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       if (r_norm < best) best = r_norm, thrust::copy(exec, x.begin(), x.end(), x_best.begin());
       if (restart)
       {
+        last_restart = it;
         thrust::copy(exec, r.begin(), r.end(), r_hat.begin());
         thrust::fill(exec, p.begin(), p.end(), 0.0);
         thrust::fill(exec, v.begin(), v.end(), 0.0);
         r_hat_norm = r_norm, rho_old = alpha = omega = 1, restart = false;
       }
       const double rho = dot(r_hat, r);
-      if (!(std::abs(rho) > tiny * r_hat_norm * r_norm)) break;             // rho breakdown
+      // A breakdown restarts the iteration from the current residual (new shadow residual r̂);
+      // one right after a restart, without progress in between, ends the solve.
+      const bool fresh = last_restart == it;
+      if (!(std::abs(rho) > tiny * r_hat_norm * r_norm))                      // rho breakdown
+      {
+        if (fresh) break;
+        r_norm = residual(A, b, x, r), restart = true;
+        continue;
+      }
       const double beta = rho / rho_old * (alpha / omega);
       apply(n, UpdateDirection{ptr(p), ptr(r), ptr(v), beta, omega});
       M.apply(p, p_hat);
       spmv(offsets, indices, values, p_hat, v);
       const double r_hat_v = dot(r_hat, v);
-      if (!(std::abs(r_hat_v) > tiny * r_hat_norm * norm(v))) break;        // (r̂, v) breakdown
+      if (!(std::abs(r_hat_v) > tiny * r_hat_norm * norm(v)))                 // (r̂, v) breakdown
+      {
+        if (fresh) break;
+        r_norm = residual(A, b, x, r), restart = true;
+        continue;
+      }
       alpha = rho / r_hat_v;
       apply(n, Axpy{ptr(s), ptr(r), -alpha, ptr(v)});
       ++it;
@@ -175,7 +189,11 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       const double tt = dot(t, t), ts = dot(t, s);
       apply(n, Axpy{ptr(x), ptr(x), alpha, ptr(p_hat)});
       if (!(std::abs(ts) > tiny * std::sqrt(tt) * norm(s)))                  // omega breakdown
-        break;
+      {
+        if (fresh) break;
+        r_norm = residual(A, b, x, r), restart = true; // x already holds the half step
+        continue;
+      }
       omega = ts / tt;
       apply(n, Axpy{ptr(x), ptr(x), omega, ptr(s_hat)});
       apply(n, Axpy{ptr(r), ptr(s), -omega, ptr(t)});

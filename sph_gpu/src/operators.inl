@@ -213,61 +213,18 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       Tensor2<dim>             *G, *L;
       int                      *fallback;
       CorrectionChecks          checks;
-      const int                *surface; ///< free-surface flags (p = 0 rows: L only enters viscosity), or null
 
       TWINFLOW_HD void operator()(const int i) const
       {
         const geometry::Vec<dim> xi = x[i];
         const int                k0 = offsets[i], k1 = offsets[i + 1];
 
-        // --- G_i: (G^{-1})^{mn} = −Σ_j r^m ∇_n W V_j
-        double Minv[dim][dim];
-        for (int m = 0; m < dim; ++m)
-          for (int n = 0; n < dim; ++n)
-            Minv[m][n] = 0;
-        for (int k = k0; k < k1; ++k)
-        {
-          const int j = indices[k];
-          if (j == i)
-            continue;
-          const Pair<dim> p(box, W, xi, x[j]);
-          for (int m = 0; m < dim; ++m)
-            for (int n = 0; n < dim; ++n)
-              Minv[m][n] -= p.r[m] * p.gradW[n] * V[j];
-        }
-        Tensor2<dim> Gi;
-        bool         g_ok = invert<dim>(Minv, Gi.a);
-        if (!g_ok)
-          Gi = identity<dim>();
-        G[i] = Gi;
-
-        // --- A^{kmn} = Σ_j r^m r^n G^{kq} ∇_q W V_j (Eq. 26)
-        double A[dim][dim][dim];
-        for (int a = 0; a < dim; ++a)
-          for (int m = 0; m < dim; ++m)
-            for (int n = 0; n < dim; ++n)
-              A[a][m][n] = 0;
-        for (int k = k0; k < k1; ++k)
-        {
-          const int j = indices[k];
-          if (j == i)
-            continue;
-          const Pair<dim> p(box, W, xi, x[j]);
-          for (int a = 0; a < dim; ++a)
-          {
-            double Gg = 0;
-            for (int q = 0; q < dim; ++q)
-              Gg += Gi.a[a][q] * p.gradW[q];
-            Gg *= V[j];
-            for (int m = 0; m < dim; ++m)
-              for (int n = 0; n < dim; ++n)
-                A[a][m][n] += p.r[m] * p.r[n] * Gg;
-          }
-        }
-
-        // --- Eq. 25 for the pairs m ≤ n (rows) in the unknowns L^{op}, o ≤ p (columns):
-        //     Σ_j (A^{kmn} e^k + r^m e^n) (Σ_{o≤p} c_op L^{op}) V_j = −δ^{mn},
-        //     c_oo = e^o ∇_o W, c_op = e^o ∇_p W + e^p ∇_o W (o < p, L symmetric).
+        // One pass over the neighbours gathers every moment; G_i only enters afterwards, since
+        // A^{kmn} = G^{kq} B^{qmn} and Eq. 25's matrix is K1 + A·K2 (below).
+        //   (G^{-1})^{mn} = −Σ_j r^m ∇_n W V_j
+        //   B^{qmn}       =  Σ_j r^m r^n ∇_q W V_j
+        //   K1^{(mn),c}   =  Σ_j r^m e^n col_c,   K2^{q,c} = Σ_j e^q col_c
+        // with col_c = c_op V_j for the unknown c = (o, p) of L (see Eq. 25 below).
         int pm[NL], pn[NL];
         {
           int a = 0;
@@ -279,13 +236,21 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
               ++a;
             }
         }
-        double K[NL][NL], b[NL], y[NL];
-        for (int a = 0; a < NL; ++a)
+        double Minv[dim][dim], B[dim][dim][dim], K1[NL][NL], K2[dim][NL];
+        for (int m = 0; m < dim; ++m)
         {
-          b[a] = pm[a] == pn[a] ? -1.0 : 0.0;
+          for (int n = 0; n < dim; ++n)
+          {
+            Minv[m][n] = 0;
+            for (int q = 0; q < dim; ++q)
+              B[q][m][n] = 0;
+          }
           for (int c = 0; c < NL; ++c)
-            K[a][c] = 0;
+            K2[m][c] = 0;
         }
+        for (int a = 0; a < NL; ++a)
+          for (int c = 0; c < NL; ++c)
+            K1[a][c] = 0;
         for (int k = k0; k < k1; ++k)
         {
           const int j = indices[k];
@@ -293,21 +258,64 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
             continue;
           const Pair<dim> p(box, W, xi, x[j]);
           if (p.dist <= 0)
-            continue;
-          double coef[NL], col[NL];
-          for (int a = 0; a < NL; ++a)
+            continue; // ∇W = 0 and no direction: contributes to no moment
+          const double Vj = V[j];
+          for (int m = 0; m < dim; ++m)
+            for (int n = 0; n < dim; ++n)
+            {
+              const double rmn = p.r[m] * p.r[n] * Vj;
+              Minv[m][n] -= p.r[m] * p.gradW[n] * Vj;
+              for (int q = 0; q < dim; ++q)
+                B[q][m][n] += rmn * p.gradW[q];
+            }
+          double col[NL];
+          for (int c = 0; c < NL; ++c)
           {
-            const int m = pm[a], n = pn[a];
-            double    s = p.r[m] * p.e[n];
-            for (int q = 0; q < dim; ++q)
-              s += A[q][m][n] * p.e[q];
-            coef[a] = s;
-            col[a]  = m == n ? p.e[m] * p.gradW[m] : p.e[m] * p.gradW[n] + p.e[n] * p.gradW[m];
-            col[a] *= V[j];
+            const int o = pm[c], q = pn[c];
+            col[c] = (o == q ? p.e[o] * p.gradW[o] : p.e[o] * p.gradW[q] + p.e[q] * p.gradW[o]) * Vj;
           }
           for (int a = 0; a < NL; ++a)
+          {
+            const double rme = p.r[pm[a]] * p.e[pn[a]];
             for (int c = 0; c < NL; ++c)
-              K[a][c] += coef[a] * col[c];
+              K1[a][c] += rme * col[c];
+          }
+          for (int q = 0; q < dim; ++q)
+            for (int c = 0; c < NL; ++c)
+              K2[q][c] += p.e[q] * col[c];
+        }
+
+        // --- G_i
+        Tensor2<dim> Gi;
+        bool         g_ok = invert<dim>(Minv, Gi.a);
+        if (!g_ok)
+          Gi = identity<dim>();
+        G[i] = Gi;
+
+        // --- Eq. 26, A^{kmn} = Σ_j r^m r^n G^{kq} ∇_q W V_j = G^{kq} B^{qmn}, and Eq. 25 for the
+        //     pairs m ≤ n (rows) in the unknowns L^{op}, o ≤ p (columns):
+        //     Σ_j (A^{kmn} e^k + r^m e^n) (Σ_{o≤p} c_op L^{op}) V_j = −δ^{mn},
+        //     c_oo = e^o ∇_o W, c_op = e^o ∇_p W + e^p ∇_o W (o < p, L symmetric),
+        //     i.e. K = K1 + Σ_k A^{kmn} K2^{k,·}.
+        double K[NL][NL], b[NL], y[NL];
+        for (int a = 0; a < NL; ++a)
+        {
+          const int m = pm[a], n = pn[a];
+          b[a]        = m == n ? -1.0 : 0.0;
+          double Amn[dim];
+          for (int kk = 0; kk < dim; ++kk)
+          {
+            Amn[kk] = 0;
+            for (int q = 0; q < dim; ++q)
+              Amn[kk] += Gi.a[kk][q] * B[q][m][n];
+          }
+          for (int c = 0; c < NL; ++c)
+          {
+            double v = K1[a][c];
+            for (int kk = 0; kk < dim; ++kk)
+              v += Amn[kk] * K2[kk][c];
+            K[a][c] = v;
+          }
         }
         Tensor2<dim> Li;
         bool         l_ok = solve<NL>(K, b, y);
@@ -319,8 +327,11 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
           }
         else
           Li = identity<dim>();
-        // surface particles are skipped: their pressure rows are p = 0
-        if (l_ok && checks.positive_definite_laplacian && !(surface && surface[i]) && !positive_definite<dim>(Li))
+        // Every particle, free-surface ones included: their L only enters the viscous row (the
+        // pressure row is p = 0), where an indefinite L is anti-diffusive (a surface particle
+        // 3e-5 m from a neighbour, L ~ 1e3, got a 45 m/s viscous kick in the Martin & Moyce
+        // dam break at a/80).
+        if (l_ok && checks.positive_definite_laplacian && !positive_definite<dim>(Li))
         {
           Li   = identity<dim>();
           l_ok = false;
@@ -441,7 +452,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
   template <int dim>
   int compute_corrections(const dvec<Vec<dim>> &x, const dvec<double> &V, const NeighborList &nl,
                           const DomainBox<dim> &box, const CubicSpline<dim> &W, dvec<Tensor2<dim>> &G,
-                          dvec<Tensor2<dim>> &L, const CorrectionChecks &checks, const int *surface)
+                          dvec<Tensor2<dim>> &L, const CorrectionChecks &checks)
   {
     const int n = static_cast<int>(x.size());
     G.resize(n);
@@ -450,7 +461,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       return 0;
     dvec<int>                           fallback(n);
     operators_detail::CorrectionF<dim> f{ptr(x), ptr(V), ptr(nl.offsets), ptr(nl.indices), box, W,
-                                         ptr(G), ptr(L), ptr(fallback), checks, surface};
+                                         ptr(G), ptr(L), ptr(fallback), checks};
     thrust::counting_iterator<int> first(0);
     thrust::for_each(exec, first, first + n, f);
     return thrust::reduce(exec, fallback.begin(), fallback.end(), 0);
@@ -490,7 +501,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
   template int  compute_corrections<dim>(const dvec<Vec<dim>> &, const dvec<double> &, const NeighborList &, \
                                         const DomainBox<dim> &, const CubicSpline<dim> &,                   \
                                         dvec<Tensor2<dim>> &, dvec<Tensor2<dim>> &,                         \
-                                        const CorrectionChecks &, const int *);                             \
+                                        const CorrectionChecks &);                                        \
   template void assemble_operators<dim>(const dvec<Vec<dim>> &, const dvec<double> &, const NeighborList &,  \
                                         const DomainBox<dim> &, const CubicSpline<dim> &, OperatorKind,      \
                                         const dvec<Tensor2<dim>> &, const dvec<Tensor2<dim>> &,              \

@@ -153,9 +153,9 @@ namespace twinflow::geometry
   /// Cross product (3D only).
   TWINFLOW_HD_INLINE Vec<3> cross(const Vec<3> &a, const Vec<3> &b)
   {
-    return Vec<3>{a.x[1] * b.x[2] - a.x[2] * b.x[1],
-                  a.x[2] * b.x[0] - a.x[0] * b.x[2],
-                  a.x[0] * b.x[1] - a.x[1] * b.x[0]};
+    return Vec<3>{{a.x[1] * b.x[2] - a.x[2] * b.x[1],
+                   a.x[2] * b.x[0] - a.x[0] * b.x[2],
+                   a.x[0] * b.x[1] - a.x[1] * b.x[0]}};
   }
 
   namespace detail

@@ -40,14 +40,12 @@ namespace twinflow::sph
 
     /// G_i = (−Σ_j r_ij ⊗ ∇_i W_ij V_j)^{-1} (Eq. 24) and L_i from Eq. 25–26; where the
     /// support is too deficient to invert (isolated particles), the identity is used; with
-    /// `checks` (CorrectionChecks), an L_i that is not positive definite is replaced by I,
-    /// except at particles flagged in `surface` (their pressure rows are p = 0).
+    /// `checks` (CorrectionChecks), an L_i that is not positive definite is replaced by I.
     /// Returns the number of particles whose G or L was replaced.
     template <int dim>
     int compute_corrections(const dvec<Vec<dim>> &x, const dvec<double> &V, const NeighborList &nl,
                             const DomainBox<dim> &box, const CubicSpline<dim> &W, dvec<Tensor2<dim>> &G,
-                            dvec<Tensor2<dim>> &L, const CorrectionChecks &checks = {},
-                            const int *surface = nullptr);
+                            dvec<Tensor2<dim>> &L, const CorrectionChecks &checks = {});
 
     /// Assembles A^G and A^L, standard (Eq. 19–20) or consistent (Eq. 22–23, using G, L).
     template <int dim>

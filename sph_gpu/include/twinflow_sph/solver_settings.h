@@ -10,9 +10,9 @@ namespace twinflow::sph
   };
 
   /// Conditioning checks of the consistent-operator corrections (operators.inl). With
-  /// positive_definite_laplacian, a non-surface particle whose L_i is not positive definite
-  /// gets L_i = I (the standard Laplacian row). Off: exact second-order consistency wherever
-  /// the support allows it.
+  /// positive_definite_laplacian, a particle whose L_i is not positive definite gets L_i = I
+  /// (the standard Laplacian row, in the pressure and the viscous system). Off: exact
+  /// second-order consistency wherever the support allows it.
   struct CorrectionChecks
   {
     bool positive_definite_laplacian = false;
