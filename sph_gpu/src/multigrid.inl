@@ -251,20 +251,11 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     };
 
     /// Particle level: res = f − D⁻¹ (A x), given Ax.
-    /// res = f − D⁻¹ A x on the particles, A in single precision (one pass over the CSR).
     struct ParticleResidual
     {
-      const int    *offsets, *indices;
-      const float  *values;
-      const double *inv_diag, *f, *x;
+      const double *inv_diag, *f, *Ax;
       double       *res;
-      TWINFLOW_HD void operator()(int i) const
-      {
-        double Ax = 0;
-        for (int k = offsets[i]; k < offsets[i + 1]; ++k)
-          Ax += double(values[k]) * x[indices[k]];
-        res[i] = f[i] - inv_diag[i] * Ax;
-      }
+      TWINFLOW_HD void operator()(int i) const { res[i] = f[i] - inv_diag[i] * Ax[i]; }
     };
 
     struct AddScaled
@@ -396,11 +387,9 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
                                  const dvec<int> &offsets_, const dvec<int> &indices_, const dvec<double> &values_)
   {
     using namespace multigrid_detail;
-    offsets = &offsets_, indices = &indices_;
+    offsets = &offsets_, indices = &indices_, values = &values_;
     const int n = int(x.size());
     inverse_diagonal(offsets_, indices_, values_, inv_diag);
-    values_f.resize(values_.size());
-    thrust::copy(exec, values_.begin(), values_.end(), values_f.begin()); // double → float
     x0.resize(n), f0.resize(n), res0.resize(n);
 
     // level-1 grid over the particles (periodic directions: whole cells over the period)
@@ -494,7 +483,8 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     const double omega = settings.jacobi_damping;
     for_n(n, ScaleFirstSweep{ptr(inv_diag), ptr(r), ptr(f0), ptr(x0), omega});
     auto residual = [&] {
-      for_n(n, ParticleResidual{ptr(*offsets), ptr(*indices), ptr(values_f), ptr(inv_diag), ptr(f0), ptr(x0), ptr(res0)});
+      spmv(*offsets, *indices, *values, x0, res0);
+      for_n(n, ParticleResidual{ptr(inv_diag), ptr(f0), ptr(res0), ptr(res0)});
     };
     for (int k = 1; k < settings.smoothing_steps; ++k)
       residual(), for_n(n, AddScaled{ptr(res0), ptr(x0), omega});

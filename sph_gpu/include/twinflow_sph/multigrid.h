@@ -53,8 +53,7 @@ namespace twinflow::sph
       /// Device memory held by the hierarchy and its work vectors [bytes].
       std::size_t memory_bytes() const
       {
-        std::size_t b = sizeof(float) * values_f.size() +
-                        sizeof(double) * (inv_diag.size() + x0.size() + f0.size() + res0.size()) +
+        std::size_t b = sizeof(double) * (inv_diag.size() + x0.size() + f0.size() + res0.size()) +
                         sizeof(int) * (cell.size() + sorted.size() + cell_start.size());
         for (const Level &L : levels)
           b += sizeof(double) * (L.stencil.size() + L.x.size() + L.f.size() + L.res.size()) +
@@ -80,10 +79,7 @@ namespace twinflow::sph
       bool              periodic[dim];
       // level 0 (particles)
       const dvec<int>    *offsets = nullptr, *indices = nullptr;
-      /// Level-0 matrix values in single precision: the smoother's residuals only need a
-      /// preconditioner's accuracy, and a third less memory traffic per sweep (the Krylov
-      /// solver keeps the double-precision matrix).
-      dvec<float>         values_f;
+      const dvec<double> *values  = nullptr;
       dvec<double>        inv_diag;
       dvec<int>           cell, sorted, cell_start, keys;
       mutable dvec<double> x0, f0, res0;
