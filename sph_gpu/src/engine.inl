@@ -296,13 +296,18 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       if (settings.free_surface)
         return;
       const thrust::counting_iterator<int> first(0), last(n);
+      thrust::for_each(exec, first, last, detail::ShiftConfinedFluidRows{ptr(kind), pinned, fluid_mean(rhs), ptr(rhs)});
+    }
+
+    /// Σ_F V_i f_i / Σ_F V_i over the fluid particles (not the pin); 0 without fluid.
+    double fluid_mean(const dvec<double> &f) const
+    {
+      const thrust::counting_iterator<int> first(0), last(n);
       const double volume = thrust::transform_reduce(
         exec, first, last, detail::ConfinedFluidRowWeight{ptr(kind), ptr(V), nullptr, pinned}, 0.0, thrust::plus<double>());
       const double integral = thrust::transform_reduce(
-        exec, first, last, detail::ConfinedFluidRowWeight{ptr(kind), ptr(V), ptr(rhs), pinned}, 0.0, thrust::plus<double>());
-      if (volume > 0)
-        thrust::for_each(exec, first, last,
-                         detail::ShiftConfinedFluidRows{ptr(kind), pinned, integral / volume, ptr(rhs)});
+        exec, first, last, detail::ConfinedFluidRowWeight{ptr(kind), ptr(V), ptr(f), pinned}, 0.0, thrust::plus<double>());
+      return volume > 0 ? integral / volume : 0.0;
     }
 
     /// Confined flows: the pressure is defined up to a constant (a uniform shift of every
@@ -316,13 +321,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       if (settings.free_surface)
         return;
       const thrust::counting_iterator<int> first(0), last(n);
-      const double volume = thrust::transform_reduce(
-        exec, first, last, detail::ConfinedFluidRowWeight{ptr(kind), ptr(V), nullptr, pinned}, 0.0, thrust::plus<double>());
-      const double integral = thrust::transform_reduce(
-        exec, first, last, detail::ConfinedFluidRowWeight{ptr(kind), ptr(V), ptr(pressure), pinned}, 0.0,
-        thrust::plus<double>());
-      if (volume > 0)
-        thrust::for_each(exec, first, last, detail::ShiftAll{integral / volume, ptr(pressure)});
+      thrust::for_each(exec, first, last, detail::ShiftAll{fluid_mean(pressure), ptr(pressure)});
     }
 
     /// Confined flows: the fluid rows' diagonal gets −ε, ε = 1e-6 / (ρ0 h²) — about 1e-5 of

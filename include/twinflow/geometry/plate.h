@@ -53,7 +53,7 @@ namespace twinflow::geometry
                       const double  thickness,
                       const double  angle = 0.0)
       : Plate(RigidTransform<2>(Rotation<2>::from_angle(angle), center),
-              Vec<2>{length, thickness})
+              Vec<2>{{length, thickness}})
     {}
 
     /// 3D: box of @p length x @p thickness x @p width centred at @p center,
@@ -64,7 +64,7 @@ namespace twinflow::geometry
                       const double       thickness,
                       const double       width,
                       const Rotation<3> &orientation)
-      : Plate(RigidTransform<3>(orientation, center), Vec<3>{length, thickness, width})
+      : Plate(RigidTransform<3>(orientation, center), Vec<3>{{length, thickness, width}})
     {}
 
     /// 2D: plate whose mid-line runs from @p a to @p b (so length = |b - a|;
@@ -76,7 +76,7 @@ namespace twinflow::geometry
       const Vec<2> t = normalized(b - a);
       const double m[2][2] = {{t[0], -t[1]}, {t[1], t[0]}};
       return Plate(RigidTransform<2>(Rotation<2>::from_matrix(m), 0.5 * (a + b)),
-                   Vec<2>{norm(b - a), thickness});
+                   Vec<2>{{norm(b - a), thickness}});
     }
 
     /// Extents in body coordinates (length, thickness[, width]).
