@@ -158,11 +158,14 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       // A breakdown restarts the iteration from the current residual (new shadow residual r̂);
       // one right after a restart, without progress in between, ends the solve.
       const bool fresh = last_restart == it;
+      const auto recover = [&] {
+        if (!fresh) r_norm = residual(A, b, x, r), restart = true;
+        return !fresh;
+      };
       if (!(std::abs(rho) > tiny * r_hat_norm * r_norm))                      // rho breakdown
       {
-        if (fresh) break;
-        r_norm = residual(A, b, x, r), restart = true;
-        continue;
+        if (recover()) continue;
+        break;
       }
       const double beta = rho / rho_old * (alpha / omega);
       apply(n, UpdateDirection{ptr(p), ptr(r), ptr(v), beta, omega});
@@ -171,9 +174,8 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       const double r_hat_v = dot(r_hat, v);
       if (!(std::abs(r_hat_v) > tiny * r_hat_norm * norm(v)))                 // (r̂, v) breakdown
       {
-        if (fresh) break;
-        r_norm = residual(A, b, x, r), restart = true;
-        continue;
+        if (recover()) continue;
+        break;
       }
       alpha = rho / r_hat_v;
       apply(n, Axpy{ptr(s), ptr(r), -alpha, ptr(v)});
@@ -190,9 +192,8 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       apply(n, Axpy{ptr(x), ptr(x), alpha, ptr(p_hat)});
       if (!(std::abs(ts) > tiny * std::sqrt(tt) * norm(s)))                  // omega breakdown
       {
-        if (fresh) break;
-        r_norm = residual(A, b, x, r), restart = true; // x already holds the half step
-        continue;
+        if (recover()) continue; // x already holds the half step
+        break;
       }
       omega = ts / tt;
       apply(n, Axpy{ptr(x), ptr(x), omega, ptr(s_hat)});
