@@ -48,6 +48,13 @@ namespace twinflow::sph
                       "Consistent operators: a non-surface particle whose L_i is not positive definite gets the "
                       "standard Laplacian row (keeps the pressure rows elliptic in splashing flows).");
     prm.declare_entry("Max iterations", "2000", Patterns::Integer(1), "Iteration cap of the BiCGStab solves.");
+    prm.declare_entry("Checkpoint interval", "0", Patterns::Double(0),
+                      "Simulated time [s] between checkpoints of the particle state (<output>/sph/checkpoint.bin, "
+                      "replaced each time); 0: none. A diverging run also leaves last_good_state.bin.");
+    prm.declare_entry("Restart file", "", Patterns::Anything(),
+                      "Checkpoint to continue from (checkpoint.bin or last_good_state.bin of a run of the same scene "
+                      "and spacing); empty: start at t = 0. Restarting into the same output directory continues its "
+                      "monitors and particle series.");
     prm.leave_subsection();
   }
 
@@ -72,6 +79,8 @@ namespace twinflow::sph
     multigrid        = prm.get("Pressure preconditioner") == "multigrid";
     relax_over_reference_step   = prm.get("Density error relaxation") == "reference step";
     positive_definite_laplacian = prm.get_bool("Positive-definite Laplacian correction");
+    checkpoint_interval         = prm.get_double("Checkpoint interval");
+    restart_file                = prm.get("Restart file");
     prm.leave_subsection();
     const auto b = available_backends();
     if (std::find(b.begin(), b.end(), backend) == b.end())

@@ -8,6 +8,7 @@
 #include <twinflow/io/pvd_series.h>
 #include <twinflow/io/reference_data.h>
 #include <twinflow/io/summary.h>
+#include <twinflow/sph/checkpoint.h>
 #include <twinflow/sph/front.h>
 #include <twinflow/sph/hydrostatic_check.h>
 #include <twinflow/sph/sph_simulation.h>
@@ -49,6 +50,11 @@ namespace twinflow::sph
                          " spacings below the surface and from the walls, so References/Hydrostatic pressure has "
                          "nothing to measure; reduce the spacing");
 
+      // Restart: the checkpoint replaces the generated particles' state (checkpoint.h).
+      const bool  restart = !prm.restart_file.empty();
+      RunPosition start;
+      if (restart)
+        start = read_checkpoint<dim>(prm.restart_file, prm.spacing, P);
       const EngineSettings s = make_engine_settings(scene, prm);
       auto engine = make_engine<dim>(prm.backend, domain_box<dim>(scene), s);
       engine->set_particles(P);
@@ -67,6 +73,16 @@ namespace twinflow::sph
 
       io::ensure_directory(dir);
       MPI_Comm self = MPI_COMM_SELF;
+      if (restart)
+        std::cout << "SPH restart from " << prm.restart_file << ": t = " << start.time << " s, step " << start.steps
+                  << std::endl;
+      // A restart continues the monitors of the run it restarts: their rows up to the restart
+      // time are read before the files are rewritten (empty for a fresh run or another directory).
+      auto carried = [&](const std::string &file) {
+        return restart ? monitor_rows_until(dir + "/" + file, start.time) : std::vector<std::vector<double>>();
+      };
+      const auto energy_rows = carried("energy.csv"), front_rows = carried("front.csv"),
+                 solver_rows = carried("solver.csv");
       io::CsvMonitor energy(dir + "/energy.csv", {"time", "kinetic energy", "potential energy", "total energy"},
                             {"s", "J", "J", "J"}, self, "energy");
       // x_front: leading edge of the connected water (sph/front.h); x_foremost: of any particle,
@@ -78,6 +94,20 @@ namespace twinflow::sph
                              "pressure noise"},
                             {"s", "s", "-", "-", "-", "-", "Pa"}, self, "solver");
       double noise_sum = 0, noise_time = 0; // time average of the pressure noise
+      for (const auto &row : energy_rows)
+        energy.append(row);
+      for (const auto &row : solver_rows)
+      {
+        solver.append(row);
+        noise_sum += row[6] * row[1], noise_time += row[1];
+      }
+      std::vector<double> front_t, front_x;
+      for (const auto &row : front_rows)
+      {
+        front.append(row);
+        front_t.push_back(row[0]);
+        front_x.push_back(row[1]);
+      }
       // Fluid force on each solid (engine, doc/equations.md "Forces on solids"); columns as the
       // FEM's forces monitor so that both overlay in one plot. Solid 1: forces.csv, others
       // forces_<name>.csv. C = 2F / (rho U^2 A), A = Reference length (x depth in 3D).
@@ -94,15 +124,27 @@ namespace twinflow::sph
           cols.insert(cols.end(), {"C_d", "C_l"});
           units.insert(units.end(), {"-", "-"});
           const std::string file = b == 0 ? "forces.csv" : "forces_" + scene.solids[b].name + ".csv";
+          const auto        rows = carried(file);
           forces_csv.push_back(std::make_unique<io::CsvMonitor>(dir + "/" + file, cols, units, self, "forces"));
+          for (const auto &row : rows)
+          {
+            forces_csv.back()->append(row);
+            if (b == 0 && row[0] > 0) // as monitors(): the series starts with the first step
+            {
+              force_t.push_back(row[0]);
+              drag_series.push_back(row[1 + dim]);
+              lift_series.push_back(row[2 + dim]);
+            }
+          }
         }
-      io::PvdSeries pvd(dir, "particles", self);
-      unsigned int  output_count = 0;
+      io::PvdSeries       pvd(dir, "particles", self);
+      std::vector<double> output_times = start.output_times;
+      for (std::size_t k = 0; k < output_times.size(); ++k)
+        pvd.add(output_times[k], "particles_" + std::to_string(k) + ".vtu");
       double        m0 = fluid.density;
       for (int d = 0; d < dim; ++d)
         m0 *= prm.spacing;
 
-      std::vector<double> front_t, front_x;
       auto monitors = [&](double t, double dt, const StepReport *r) {
         engine->get_particles(P);
         double ek = 0, ep = 0;
@@ -169,16 +211,27 @@ namespace twinflow::sph
         out.add_scalar("pressure", P.p);
         out.add_scalar("density", P.rho);
         out.add_scalar("kind", P.kind);
-        out.set_time(t, output_count);
-        const std::string name = "particles_" + std::to_string(output_count++) + ".vtu";
+        out.set_time(t, output_times.size());
+        const std::string name = "particles_" + std::to_string(output_times.size()) + ".vtu";
         out.write_vtu(dir + "/" + name);
         pvd.add(t, name);
+        output_times.push_back(t);
       };
 
-      monitors(0, 0, nullptr);
-      write(0);
-      io::ProgressReporter progress(0.0, scene.end_time, std::cout, self, 2.0);
-      double t = 0, next_output = scene.output_interval, t_output = 0;
+      if (!restart)
+      {
+        monitors(0, 0, nullptr);
+        write(0);
+      }
+      io::ProgressReporter progress(start.time, scene.end_time, std::cout, self, 2.0);
+      double t = start.time, t_output = 0;
+      double next_output = restart ? start.next_output : scene.output_interval;
+      result.steps       = start.steps;
+      const double checkpoint_interval = prm.checkpoint_interval;
+      double       next_checkpoint     = t + checkpoint_interval;
+      auto checkpoint = [&](const std::string &file, double time, std::size_t steps) {
+        write_checkpoint<dim>(dir + "/" + file, P, prm.spacing, RunPosition{time, steps, next_output, output_times});
+      };
       const double u_ref = scene.reference_velocity;
       while (t < scene.end_time * (1 - 1e-12))
       {
@@ -205,7 +258,9 @@ namespace twinflow::sph
             (!r.pressure.converged && r.pressure.residual > 1e-1) || dt < 1e-10 * scene.end_time ||
             r.max_speed > 50 * u_ref)
         {
-          // Keep the last good state for diagnosis (P still holds the previous step).
+          // Keep the last good state for diagnosis (P still holds the previous step), also as a
+          // checkpoint to restart from (e.g. with a smaller time step or other settings).
+          checkpoint("last_good_state.bin", t - dt, result.steps - 1);
           std::ofstream dump(dir + "/last_good_state.csv");
           dump << "# twinflow: SPH particles at the last step before divergence\nx,y,z,u,v,w,p,rho,kind\n";
           for (std::size_t i = 0; i < P.size(); ++i)
@@ -220,7 +275,8 @@ namespace twinflow::sph
                                    std::to_string(result.steps) + "; pressure residual " + std::to_string(r.pressure.residual) +
                                    ", max speed " + std::to_string(r.max_speed) +
                                    " m/s): reduce SPH/Time step or CFL number. Monitors so far and the last good "
-                                   "particle state (last_good_state.csv) are in " + dir);
+                                   "particle state (last_good_state.csv, and last_good_state.bin to restart from) are in " +
+                                   dir);
         }
         dealii::Timer out_timer;
         monitors(t, dt, &r);
@@ -228,6 +284,11 @@ namespace twinflow::sph
         {
           write(t);
           next_output += scene.output_interval;
+        }
+        if (checkpoint_interval > 0 && t >= next_checkpoint * (1 - 1e-9))
+        {
+          checkpoint("checkpoint.bin", t, result.steps);
+          next_checkpoint += checkpoint_interval;
         }
         t_output += out_timer.wall_time();
         std::ostringstream extra;
@@ -251,7 +312,7 @@ namespace twinflow::sph
       summary.set_final_time(t);
       summary.set_wall_time(result.wall_time);
       for (const auto &[k, v] : result.timings)
-        summary.set_timer_section(k, v, result.steps);
+        summary.set_timer_section(k, v, result.steps - start.steps);
       if (!scene.reference_front_file.empty())
       {
         // Martin & Moyce scaling: t = T / sqrt(2 g / a), x_f = Z a.
@@ -326,9 +387,11 @@ namespace twinflow::sph
       summary.set_extra("fluid particles", result.fluid_particles);
       summary.set_extra("BCE markers", result.markers);
       summary.set_extra("backend", std::string(engine->backend()));
+      if (restart) // wall time, steps per second and timers cover the restarted part only
+        summary.set_extra("restarted from time [s]", start.time);
       summary.set_extra("neighbour entries per particle", double(engine->n_neighbor_entries()) / P.size());
       summary.set_extra("memory per particle [B]", engine->bytes_per_particle());
-      summary.set_extra("particle-steps per second", double(P.size()) * result.steps / result.wall_time);
+      summary.set_extra("particle-steps per second", double(P.size()) * (result.steps - start.steps) / result.wall_time);
       summary.write_json(dir + "/summary.json");
       summary.print_table(std::cout);
       return result;

@@ -36,6 +36,8 @@ namespace twinflow::sph
     bool        multigrid        = true;   ///< pressure preconditioner: multigrid (else Jacobi)
     bool        positive_definite_laplacian = false; ///< L_i = I where L_i is not SPD
     bool        relax_over_reference_step   = false; ///< density error removed over Δt_ref, not Δt
+    double      checkpoint_interval = 0;  ///< simulated time between checkpoints (0: none)
+    std::string restart_file;             ///< checkpoint to continue from (empty: fresh start)
 
     static void declare(dealii::ParameterHandler &prm);
     void        parse(dealii::ParameterHandler &prm);

@@ -1,0 +1,151 @@
+#include <twinflow/core/errors.h>
+#include <twinflow/io/csv_table.h>
+#include <twinflow/sph/checkpoint.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+
+namespace twinflow::sph
+{
+  namespace
+  {
+    constexpr char magic[8] = {'T', 'W', 'S', 'P', 'H', 'C', 'K', '1'};
+
+    template <typename T>
+    void put(std::ofstream &f, const T *data, const std::size_t count)
+    {
+      f.write(reinterpret_cast<const char *>(data), static_cast<std::streamsize>(sizeof(T) * count));
+    }
+
+    template <typename T>
+    void put(std::ofstream &f, const T &value)
+    {
+      put(f, &value, 1);
+    }
+
+    /// Reads from a checkpoint; a short file is an InputError naming it.
+    struct Reader
+    {
+      std::ifstream      f;
+      const std::string &path;
+
+      template <typename T>
+      void get(T *data, const std::size_t count)
+      {
+        f.read(reinterpret_cast<char *>(data), static_cast<std::streamsize>(sizeof(T) * count));
+        if (!f)
+          throw InputError("SPH/Restart file = '" + path + "': the file ends early (truncated checkpoint)");
+      }
+
+      template <typename T>
+      T get()
+      {
+        T value;
+        get(&value, 1);
+        return value;
+      }
+    };
+  } // namespace
+
+  template <int dim>
+  void write_checkpoint(const std::string &path, const HostParticles<dim> &P, const double spacing, const RunPosition &pos)
+  {
+    const std::string tmp = path + ".tmp";
+    {
+      std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
+      if (!f)
+        throw std::runtime_error("cannot write the checkpoint " + tmp);
+      const std::uint64_t n = P.size(), n_outputs = pos.output_times.size(), steps = pos.steps;
+      const std::int32_t  d = dim;
+      put(f, magic, sizeof(magic));
+      put(f, d);
+      put(f, n);
+      put(f, spacing);
+      put(f, pos.time);
+      put(f, steps);
+      put(f, pos.next_output);
+      put(f, n_outputs);
+      put(f, pos.output_times.data(), pos.output_times.size());
+      put(f, P.x.data(), P.size());
+      put(f, P.u.data(), P.size());
+      put(f, P.p.data(), P.size());
+      put(f, P.rho.data(), P.size());
+      std::vector<std::int32_t> kinds(P.kind.begin(), P.kind.end());
+      put(f, kinds.data(), kinds.size());
+      if (!f)
+        throw std::runtime_error("writing the checkpoint " + tmp + " failed (disk full?)");
+    }
+    if (std::rename(tmp.c_str(), path.c_str()) != 0)
+      throw std::runtime_error("cannot rename the checkpoint " + tmp + " to " + path);
+  }
+
+  template <int dim>
+  RunPosition read_checkpoint(const std::string &path, const double spacing, HostParticles<dim> &P)
+  {
+    Reader r{std::ifstream(path, std::ios::binary), path};
+    const std::string entry = "SPH/Restart file = '" + path + "'";
+    if (!r.f)
+      throw InputError(entry + ": cannot open the file (a checkpoint.bin written by a run with SPH/Checkpoint interval > 0)");
+    char m[sizeof(magic)];
+    r.get(m, sizeof(m));
+    if (std::memcmp(m, magic, sizeof(magic)) != 0)
+      throw InputError(entry + ": not a Twinflow SPH checkpoint (allowed: a checkpoint.bin written by SPH/Checkpoint interval)");
+    const auto d = r.get<std::int32_t>();
+    if (d != dim)
+      throw InputError(entry + ": the checkpoint is " + std::to_string(d) + "D, the scene " + std::to_string(dim) + "D");
+    const auto   n = r.get<std::uint64_t>();
+    const double h = r.get<double>();
+    if (std::abs(h - spacing) > 1e-12 * spacing)
+      throw InputError(entry + ": written with SPH/Particle spacing = " + std::to_string(h) + ", the scene has " +
+                       std::to_string(spacing) + "; restart with the scene that wrote it");
+    if (n != P.size())
+      throw InputError(entry + ": the checkpoint has " + std::to_string(n) + " particles, the scene generates " +
+                       std::to_string(P.size()) + "; restart with the scene that wrote it");
+    RunPosition pos;
+    pos.time        = r.get<double>();
+    pos.steps       = r.get<std::uint64_t>();
+    pos.next_output = r.get<double>();
+    pos.output_times.resize(r.get<std::uint64_t>());
+    r.get(pos.output_times.data(), pos.output_times.size());
+    HostParticles<dim> c;
+    c.x.resize(n), c.u.resize(n), c.p.resize(n), c.rho.resize(n);
+    std::vector<std::int32_t> kinds(n);
+    r.get(c.x.data(), n);
+    r.get(c.u.data(), n);
+    r.get(c.p.data(), n);
+    r.get(c.rho.data(), n);
+    r.get(kinds.data(), n);
+    for (std::size_t i = 0; i < n; ++i)
+      if (kinds[i] != P.kind[i])
+        throw InputError(entry + ": particle " + std::to_string(i) + " is of another kind than in the scene (fluid, " +
+                         "wall or solid markers differ); restart with the scene that wrote it");
+    P.x = std::move(c.x), P.u = std::move(c.u), P.p = std::move(c.p), P.rho = std::move(c.rho);
+    return pos;
+  }
+
+  std::vector<std::vector<double>> monitor_rows_until(const std::string &path, const double t)
+  {
+    std::vector<std::vector<double>> rows;
+    if (!std::ifstream(path))
+      return rows;
+    const io::CsvTable table = io::read_csv(path);
+    for (std::size_t r = 0; r < table.n_rows(); ++r)
+    {
+      if (table.columns[0][r] > t * (1 + 1e-12))
+        break;
+      std::vector<double> row;
+      for (const auto &c : table.columns)
+        row.push_back(c[r]);
+      rows.push_back(std::move(row));
+    }
+    return rows;
+  }
+
+  template void        write_checkpoint<2>(const std::string &, const HostParticles<2> &, double, const RunPosition &);
+  template void        write_checkpoint<3>(const std::string &, const HostParticles<3> &, double, const RunPosition &);
+  template RunPosition read_checkpoint<2>(const std::string &, double, HostParticles<2> &);
+  template RunPosition read_checkpoint<3>(const std::string &, double, HostParticles<3> &);
+} // namespace twinflow::sph
