@@ -33,6 +33,10 @@ namespace twinflow::sph
                       "al. 2012 use 1.5 in 2D); 0: density criterion only.");
     prm.declare_entry("Particle shifting", "0", Patterns::Double(0, 10),
                       "Coefficient A of Fickian particle shifting (dr = -A h |u| dt grad C, Lind et al. 2012); 0: off.");
+    prm.declare_entry("Shifting velocity floor", "0", Patterns::Double(0),
+                      "Speed scale of particle shifting: dr = -A h max(|u|, floor) dt grad C [m/s]. > 0: shifting also "
+                      "acts at rest (damps the row-pairing mode of the consistent operators next to walls) and "
+                      "particles next to the free surface are not shifted; 0: |u| (Lind et al. 2012).");
     prm.declare_entry("Time step", "1e-3", Patterns::Double(0), "Maximum time step [s], > 0.");
     prm.declare_entry("CFL number", "0.2", Patterns::Double(0),
                       "dt <= CFL h / max(|u|_max, Monitors/Reference velocity); 0: fixed step.");
@@ -71,6 +75,7 @@ namespace twinflow::sph
     free_surface_ratio = prm.get_double("Free-surface density ratio");
     free_surface_divergence_ratio = prm.get_double("Free-surface divergence ratio");
     shifting           = prm.get_double("Particle shifting");
+    shifting_velocity_floor = prm.get_double("Shifting velocity floor");
     time_step = prm.get_double("Time step");
     require(time_step > 0, "SPH/Time step", prm.get("Time step"), "the time step must be > 0");
     cfl              = prm.get_double("CFL number");

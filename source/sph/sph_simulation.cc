@@ -413,6 +413,7 @@ namespace twinflow::sph
     s.free_surface_divergence = prm.free_surface_divergence_ratio * scene.dimension;
     s.free_surface       = scene.fluid_region.has_value();
     s.shifting           = prm.shifting;
+    s.shifting_velocity_floor = prm.shifting_velocity_floor;
     for (int d = 0; d < 3; ++d)
     {
       s.acceleration[d] = scene.gravity[d] + scene.body_force[d];

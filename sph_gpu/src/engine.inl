@@ -250,7 +250,8 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
         thrust::for_each(exec, first, last,
                          detail::ShiftingDisplacement<dim>{ptr(x_start), ptr(u), ptr(kind), ptr(nl.offsets),
                                                            ptr(nl.indices), ptr(surface), ptr(V), box, W,
-                                                           settings.shifting, dt, 0.1 * settings.spacing, ptr(x)});
+                                                           settings.shifting, dt, 0.1 * settings.spacing, ptr(x),
+                                                           settings.shifting_velocity_floor});
       report.max_speed = max_fluid_speed();
       report.t_update  = clock.lap();
       return report;

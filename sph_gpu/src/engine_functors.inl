@@ -332,6 +332,11 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
   /// the distribution near-isotropic, which the consistent operators need in violent flows.
   /// Free-surface particles are not shifted (their ∇C points out of the fluid). Positions are
   /// taken at the start of the step (the neighbour lists are those of the step).
+  /// With a velocity floor U_f > 0, D = A h max(|u_i|, U_f) Δt: shifting also acts at rest,
+  /// where it damps the row-pairing mode of the consistent operators next to walls (doc/
+  /// benchmarks.md, "Still water: the growing modes"); particles with a free-surface
+  /// neighbour are then not shifted either (∇C there points out of the fluid: at rest it
+  /// would pull the second row into the first).
   template <int dim>
   struct ShiftingDisplacement
   {
@@ -342,6 +347,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
     CubicSpline<dim> W;
     double          coefficient, dt, max_shift;
     Vec<dim>       *x;
+    double          u_min = 0; ///< velocity floor U_f
     TWINFLOW_HD void operator()(int i) const
     {
       if (kind[i] != ParticleKind::fluid || surface[i])
@@ -356,7 +362,12 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
         for (int d = 0; d < dim; ++d)
           gradC[d] += V[j] * g[d];
       }
-      const double D = coefficient * W.h * geometry::norm(u[i]) * dt;
+      if (u_min > 0)
+        for (int k = offsets[i]; k < offsets[i + 1]; ++k)
+          if (surface[indices[k]] && kind[indices[k]] == ParticleKind::fluid)
+            return;
+      const double un = geometry::norm(u[i]);
+      const double D = coefficient * W.h * (un > u_min ? un : u_min) * dt;
       Vec<dim>     dr;
       double       len = 0;
       for (int d = 0; d < dim; ++d)

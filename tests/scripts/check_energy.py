@@ -2,7 +2,10 @@
 """Stability check of a run's energy monitor: total energy stays finite and never exceeds its
 initial value by more than a relative tolerance (a dissipative flow must not gain energy).
 
-usage: check_energy.py energy.csv MAX_RELATIVE_GAIN
+usage: check_energy.py energy.csv MAX_RELATIVE_GAIN [MAX_KINETIC_FRACTION]
+
+With MAX_KINETIC_FRACTION (a flow at rest): the kinetic energy must also stay below that
+fraction of |initial total energy| at every output.
 """
 import math
 import sys
@@ -20,7 +23,15 @@ def main():
     gain = (max(e) - e[0]) / abs(e[0])
     print(f"energy: initial {e[0]:.6g}, max {max(e):.6g}, final {e[-1]:.6g}; relative gain {gain:.3e} "
           f"(tolerance {tol:.1e}); finite: {finite}")
-    return 0 if finite and gain <= tol else 1
+    ok = finite and gain <= tol
+    if len(sys.argv) > 3:
+        kin = [r[[h.split(" [")[0] for h in header].index("kinetic energy")] for r in rows]
+        bound = float(sys.argv[3]) * abs(e[0])
+        worst = max(kin)
+        print(f"kinetic energy: max {worst:.3e} at t = {rows[kin.index(worst)][0]:.3f} (bound {bound:.3e} = "
+              f"{float(sys.argv[3]):.1e} |E0|)")
+        ok = ok and worst <= bound
+    return 0 if ok else 1
 
 
 if __name__ == "__main__":

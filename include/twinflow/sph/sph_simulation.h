@@ -29,6 +29,7 @@ namespace twinflow::sph
     double      free_surface_ratio = 0.95;
     double      free_surface_divergence_ratio = 0;    ///< surface also where div r < ratio · dim (0: off)
     double      shifting      = 0;      ///< particle-shifting coefficient (0: off)
+    double      shifting_velocity_floor = 0; ///< shifting speed scale max(|u_i|, floor) [m/s]
     double      time_step     = 1e-3;   ///< maximum step
     double      cfl           = 0.2;    ///< dt ≤ CFL h / max(|u|, U_ref)
     double      solver_tolerance = 1e-8;

@@ -37,6 +37,7 @@ namespace twinflow::sph
     double             free_surface_divergence = 0; ///< … or with ∇·r_i below this (0: density only)
     bool               free_surface = true;       ///< false: no p = 0 particles (confined flow)
     double             shifting     = 0;          ///< particle-shifting coefficient A (0: off)
+    double             shifting_velocity_floor = 0; ///< D = A h max(|u_i|, this) Δt (0: |u_i|, the paper's form)
     std::array<double, 3> acceleration{{0, 0, 0}}; ///< gravity + body force
     std::array<double, 3> gravity{{0, 0, 0}};      ///< g of Eq. 61/64
     SolverSettings     velocity_solver, pressure_solver;
