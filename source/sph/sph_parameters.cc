@@ -31,6 +31,10 @@ namespace twinflow::sph
                       "Fluid particles whose position divergence div r is below ratio * dim are also free-surface "
                       "particles (catches the surface where BCE markers fill the density up, e.g. at walls; Lind et "
                       "al. 2012 use 1.5 in 2D); 0: density criterion only.");
+    prm.declare_entry("Free-surface neighbour ratio", "0", Patterns::Double(0, 1),
+                      "Fluid particles with fewer neighbours (all kinds, itself included) than ratio * the count of "
+                      "a full lattice support (21 in 2D, 57 in 3D at h = 1.2 dx) are also free-surface particles "
+                      "(spray clusters, whose compression hides the density deficit); 0: off.");
     prm.declare_entry("Particle shifting", "0", Patterns::Double(0, 10),
                       "Coefficient A of Fickian particle shifting (dr = -A h |u| dt grad C, Lind et al. 2012); 0: off.");
     prm.declare_entry("Shifting velocity floor", "0", Patterns::Double(0),
@@ -74,6 +78,7 @@ namespace twinflow::sph
     neumann_walls = prm.get("Wall pressure condition") == "neumann";
     free_surface_ratio = prm.get_double("Free-surface density ratio");
     free_surface_divergence_ratio = prm.get_double("Free-surface divergence ratio");
+    free_surface_neighbour_ratio  = prm.get_double("Free-surface neighbour ratio");
     shifting           = prm.get_double("Particle shifting");
     shifting_velocity_floor = prm.get_double("Shifting velocity floor");
     time_step = prm.get_double("Time step");

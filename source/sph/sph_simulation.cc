@@ -64,7 +64,15 @@ namespace twinflow::sph
       result.active_physics.push_back(std::to_string(layers) + " BCE layers (" +
                                       (prm.neumann_walls ? "Neumann pressure rows" : "force-balance pressure rows") + ")");
       if (s.free_surface)
-        result.active_physics.push_back("free surface (p = 0 below " + std::to_string(prm.free_surface_ratio) + " rho0)");
+      {
+        std::ostringstream fs;
+        fs << "free surface (p = 0 where rho < " << prm.free_surface_ratio << " rho0";
+        if (s.free_surface_divergence > 0)
+          fs << ", div r < " << s.free_surface_divergence;
+        if (s.free_surface_min_neighbours > 0)
+          fs << ", fewer than " << s.free_surface_min_neighbours << " neighbours";
+        result.active_physics.push_back(fs.str() + ")");
+      }
       std::cout << "SPH active physics: ";
       for (std::size_t k = 0; k < result.active_physics.size(); ++k)
         std::cout << (k ? "; " : "") << result.active_physics[k];
@@ -398,6 +406,19 @@ namespace twinflow::sph
     }
   } // namespace
 
+  /// Lattice points (spacing 1) closer than 2 h/Δx to the origin, the origin included.
+  int full_support_count(const int dim, const double h_over_dx)
+  {
+    const double r2 = 4 * h_over_dx * h_over_dx;
+    const int    m  = static_cast<int>(std::ceil(2 * h_over_dx));
+    int          count = 0;
+    for (int i = -m; i <= m; ++i)
+      for (int j = -m; j <= m; ++j)
+        for (int k = (dim == 3 ? -m : 0); k <= (dim == 3 ? m : 0); ++k)
+          count += i * i + j * j + k * k < r2 ? 1 : 0;
+    return count;
+  }
+
   EngineSettings make_engine_settings(const Scene &scene, const SphParameters &prm)
   {
     const Fluid   &fluid = scene.fluids.front();
@@ -411,6 +432,7 @@ namespace twinflow::sph
     s.pressure_wall      = prm.neumann_walls ? PressureWall::neumann : PressureWall::bce;
     s.free_surface_ratio = prm.free_surface_ratio;
     s.free_surface_divergence = prm.free_surface_divergence_ratio * scene.dimension;
+    s.free_surface_min_neighbours = prm.free_surface_neighbour_ratio * full_support_count(scene.dimension, s.h / s.spacing);
     s.free_surface       = scene.fluid_region.has_value();
     s.shifting           = prm.shifting;
     s.shifting_velocity_floor = prm.shifting_velocity_floor;

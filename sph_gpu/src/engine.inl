@@ -141,7 +141,8 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       thrust::for_each(exec, first, last,
                        detail::DensityAndSupport<dim>{ptr(x), ptr(kind), ptr(nl.offsets), ptr(nl.indices), box, W, ptr(V), m0,
                                                       settings.rho0, settings.free_surface_ratio,
-                                                      settings.free_surface_divergence, settings.free_surface,
+                                                      settings.free_surface_divergence, settings.free_surface_min_neighbours,
+                                                      settings.free_surface,
                                                       ptr(rho), ptr(support), ptr(surface)});
       report.free_surface_particles = thrust::reduce(exec, surface.begin(), surface.end(), 0);
       if (settings.consistent)

@@ -19,6 +19,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
     CubicSpline<dim> W;
     const double   *V;
     double          m0, rho0, ratio, divergence_threshold;
+    double          min_neighbours; ///< fewer neighbours (all kinds, itself included): free surface
     bool            free_surface;
     double         *rho, *support;
     int            *surface;
@@ -40,9 +41,11 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
       support[i] = fluid_sum;
       // Free surface: a density deficit, or (where BCE markers fill the density up, e.g. where
       // the surface meets a wall) a position divergence ∇·r = −Σ V_j r_ij·∇W_ij (= dim in a full
-      // support) below the threshold (Lind et al. 2012).
+      // support) below the threshold (Lind et al. 2012), or a sparse neighbourhood (spray
+      // clusters, whose compression hides the density deficit).
       surface[i] = (kind[i] == ParticleKind::fluid && free_surface &&
-                    (rho[i] < ratio * rho0 || div_r < divergence_threshold)) ? 1 : 0;
+                    (rho[i] < ratio * rho0 || div_r < divergence_threshold ||
+                     offsets[i + 1] - offsets[i] < min_neighbours)) ? 1 : 0;
     }
   };
 

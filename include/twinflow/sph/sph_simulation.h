@@ -28,6 +28,7 @@ namespace twinflow::sph
     bool        neumann_walls = false;
     double      free_surface_ratio = 0.95;
     double      free_surface_divergence_ratio = 0;    ///< surface also where div r < ratio · dim (0: off)
+    double      free_surface_neighbour_ratio  = 0;    ///< … or fewer neighbours than ratio · a full lattice support (0: off)
     double      shifting      = 0;      ///< particle-shifting coefficient (0: off)
     double      shifting_velocity_floor = 0; ///< shifting speed scale max(|u_i|, floor) [m/s]
     double      time_step     = 1e-3;   ///< maximum step
@@ -52,6 +53,10 @@ namespace twinflow::sph
     std::map<std::string, double> timings;   ///< seconds per phase (neighbours, assembly, solves, output)
     std::vector<std::string>      active_physics;
   };
+
+  /// Neighbour count of a particle in a full lattice support (itself included): lattice points
+  /// closer than 2h to a lattice point, 21 in 2D and 57 in 3D for h = 1.2 Δx.
+  int full_support_count(int dim, double h_over_dx);
 
   /// The engine settings a scene and its SPH parameters call for (one place for the mapping).
   EngineSettings make_engine_settings(const Scene &scene, const SphParameters &parameters);

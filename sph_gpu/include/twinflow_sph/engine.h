@@ -35,6 +35,7 @@ namespace twinflow::sph
     PressureWall       pressure_wall = PressureWall::bce;
     double             free_surface_ratio = 0.95; ///< fluid with ρ_i < ratio ρ0 gets p = 0
     double             free_surface_divergence = 0; ///< … or with ∇·r_i below this (0: density only)
+    double             free_surface_min_neighbours = 0; ///< … or with fewer neighbours, itself included (0: off)
     bool               free_surface = true;       ///< false: no p = 0 particles (confined flow)
     double             shifting     = 0;          ///< particle-shifting coefficient A (0: off)
     double             shifting_velocity_floor = 0; ///< D = A h max(|u_i|, this) Δt (0: |u_i|, the paper's form)

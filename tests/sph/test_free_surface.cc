@@ -1,0 +1,71 @@
+// Free-surface criteria of the SPH engine (DensityAndSupport): the neighbour criterion flags a
+// compressed spray cluster, whose summation density is far above rho0, and nothing else.
+#include <twinflow/core/scene.h>
+#include <twinflow/sph/particle_setup.h>
+#include <twinflow/sph/sph_simulation.h>
+#include <twinflow_sph/engine.h>
+
+#include "water_tank.h"
+
+#include <gtest/gtest.h>
+
+using namespace twinflow;
+using namespace twinflow::sph;
+
+namespace
+{
+  /// Free-surface particles after one step of the tank + a 3 x 3 cluster at 0.5 dx spacing.
+  int surface_count(const double neighbour_ratio, const bool with_cluster)
+  {
+    const Scene scene = twinflow::testing::water_tank(0.5, 0.6, 0.4);
+    const double dx = 0.02;
+    HostParticles<2> P;
+    make_particles<2>(scene, dx, 3, 1000.0, P);
+    if (with_cluster)
+      for (int i = -1; i <= 1; ++i)
+        for (int j = -1; j <= 1; ++j)
+        {
+          P.x.push_back({{0.25 + 0.5 * dx * i, 0.52 + 0.5 * dx * j}});
+          P.u.push_back({{0.0, 0.0}});
+          P.p.push_back(0.0);
+          P.rho.push_back(1000.0);
+          P.kind.push_back(ParticleKind::fluid);
+          P.wall_velocity.push_back({{0.0, 0.0}});
+          P.wall_acceleration.push_back({{0.0, 0.0}});
+          P.normal.push_back({{0.0, 0.0}});
+        }
+    SphParameters prm;
+    prm.spacing                      = dx;
+    prm.free_surface_neighbour_ratio = neighbour_ratio;
+    const EngineSettings s = make_engine_settings(scene, prm);
+    auto engine = make_engine<2>("cpu", domain_box<2>(scene), s);
+    engine->set_particles(P);
+    const StepReport &r = engine->step(1e-4);
+    if (with_cluster) // the cluster is dense: the density criterion alone does not see it
+    {
+      engine->get_particles(P);
+      for (std::size_t i = P.size() - 9; i < P.size(); ++i)
+        EXPECT_GT(P.rho[i], 1500.0) << "cluster particle " << i;
+    }
+    return r.free_surface_particles;
+  }
+} // namespace
+
+TEST(FreeSurface, FullSupportCount)
+{
+  EXPECT_EQ(full_support_count(2, 1.2), 21);
+  EXPECT_EQ(full_support_count(3, 1.2), 57);
+  EXPECT_EQ(full_support_count(2, 1.0), 9); // |r| < 2: 1 + 4 + 4 (|r| = 2 excluded)
+}
+
+TEST(FreeSurface, NeighbourCriterionFlagsSprayClusterOnly)
+{
+  const int tank_only = surface_count(0.0, false), tank_ratio = surface_count(0.6, false);
+  const int density_only = surface_count(0.0, true), with_ratio = surface_count(0.6, true);
+  // the tank's surface is the top row (25 particles) under either setting: 0.6 x 21 = 12.6
+  // neighbours lies below the top row's 13 (markers included)
+  EXPECT_EQ(tank_only, 25);
+  EXPECT_EQ(tank_ratio, tank_only);
+  EXPECT_EQ(density_only, tank_only);    // the cluster (rho > 1.5 rho0) is not seen by density
+  EXPECT_EQ(with_ratio, tank_only + 9);  // ... but by its 9 neighbours
+}
