@@ -31,6 +31,13 @@ def derived_scene(scene, path, extra):
         f.write("".join(text) + "\n" + extra)
 
 
+def fail(message, log=""):
+    if log:
+        print(log)
+    print("FAIL: " + message)
+    return 1
+
+
 def run(twinflow, prm, out):
     r = subprocess.run([twinflow, prm, "-o", out], capture_output=True, text=True)
     return r.returncode, r.stdout + r.stderr
@@ -45,26 +52,19 @@ def main():
     derived_scene(scene, prm_a, f"subsection SPH\n  set Checkpoint interval = {interval}\nend\n")
     rc, log = run(twinflow, prm_a, a_dir)
     if rc != 0:
-        print(log)
-        print("FAIL: run A failed")
-        return 1
+        return fail("run A failed", log)
     checkpoint = os.path.join(a_dir, "sph", "checkpoint.bin")
     if not os.path.isfile(checkpoint):
-        print("FAIL: run A wrote no checkpoint.bin")
-        return 1
+        return fail("run A wrote no checkpoint.bin")
     shutil.copytree(a_dir, b_dir)
     os.remove(os.path.join(b_dir, "sph", "summary.json"))
     derived_scene(scene, prm_b, f"subsection SPH\n  set Restart file = {os.path.join(b_dir, 'sph', 'checkpoint.bin')}\nend\n")
     rc, log = run(twinflow, prm_b, b_dir)
     if rc != 0:
-        print(log)
-        print("FAIL: run B (restart) failed")
-        return 1
+        return fail("run B (restart) failed", log)
     m = re.search(r"SPH restart from .*: t = (\S+) s, step (\d+)", log)
     if not m:
-        print(log)
-        print("FAIL: run B did not report a restart")
-        return 1
+        return fail("run B did not report a restart", log)
     t0, s0 = float(m.group(1)), int(m.group(2))
     print(f"restarted at t = {t0} s, step {s0}")
     ok = 0 < s0
