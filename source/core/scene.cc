@@ -159,6 +159,11 @@ namespace twinflow
     prm.declare_entry("Front position file", "", Patterns::Anything(),
                       "CSV with columns T, Z (Martin & Moyce scaling: Z = x_front / a, T = t sqrt(2 g / a), "
                       "a = Monitors/Reference length); relative paths are relative to the scene file. Empty: none.");
+    prm.declare_entry("Front time origin uncertainty", "0", Patterns::Double(0),
+                      "How late [s] the experiment's time origin may be against an instantaneous release (the "
+                      "time its restraint took to clear the column). If > 0, a second front error is reported "
+                      "and checked: the RMS error with the simulated times delayed by the best tau in [0, this "
+                      "value]. The error against the raw table is always reported. 0: raw table only.");
     prm.declare_entry("Hydrostatic pressure", "false", Patterns::Bool(),
                       "At the end of the run, compare the pressure of the bulk fluid particles (more than 4 "
                       "spacings below the free surface and from the walls) with rho |g| (H - dx/2 - y), H = top of "
@@ -347,6 +352,10 @@ namespace twinflow
       require(bool(probe), "References/Front position file", front_file,
               "an existing CSV file (looked for " + s.reference_front_file + ")");
     }
+    s.reference_front_time_uncertainty = prm.get_double("Front time origin uncertainty");
+    require(s.reference_front_time_uncertainty == 0 || !s.reference_front_file.empty(),
+            "References/Front time origin uncertainty", prm.get("Front time origin uncertainty"),
+            "0 unless References/Front position file is set (it qualifies that table)");
     s.reference_hydrostatic = prm.get_bool("Hydrostatic pressure");
     if (s.reference_hydrostatic)
     {

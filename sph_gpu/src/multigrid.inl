@@ -157,23 +157,44 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       }
     };
 
-    /// res = f − S x on a cell level.
+    /// Per active cell k: the cell ids of its 3^dim stencil slots, −1 where the slot is outside a
+    /// non-periodic direction or its coefficient is 0 (computed once per setup, so the cycle's
+    /// residuals do no index arithmetic).
+    template <int dim>
+    struct NeighbourTable
+    {
+      CellGrid<dim> grid;
+      const int    *active;
+      const double *stencil;
+      int          *neighbours;
+      TWINFLOW_HD void operator()(int k) const
+      {
+        constexpr int S = stencil_size<dim>();
+        const int     I = active[k];
+        long long     cI[dim], nb[dim];
+        grid.decode(I, cI);
+        for (int s = 0; s < S; ++s)
+          neighbours[(long long)k * S + s] =
+            stencil[(long long)I * S + s] != 0 && grid.neighbour(cI, s, nb) ? int(grid.encode(nb)) : -1;
+      }
+    };
+
+    /// res = f − S x on the active cells of a level (k: active index).
     template <int dim>
     struct CellResidual
     {
-      CellGrid<dim> grid;
+      const int    *active, *neighbours;
       const double *stencil, *x, *f;
       double       *res;
-      TWINFLOW_HD void operator()(int I) const
+      TWINFLOW_HD void operator()(int k) const
       {
         constexpr int S = stencil_size<dim>();
-        long long     cI[dim], nb[dim];
-        grid.decode(I, cI);
-        double sum = 0;
+        const int     I = active[k];
+        double        sum = 0;
         for (int s = 0; s < S; ++s)
         {
-          const double v = stencil[(long long)I * S + s];
-          if (v != 0 && grid.neighbour(cI, s, nb)) sum += v * x[grid.encode(nb)];
+          const int J = neighbours[(long long)k * S + s];
+          if (J >= 0) sum += stencil[(long long)I * S + s] * x[J];
         }
         res[I] = f[I] - sum;
       }
@@ -220,21 +241,30 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       }
     };
 
-    /// Prolongation: fine x[i] += factor · coarse x[parent(i)].
+    /// Per active cell k: its parent cell on the next coarser level.
     template <int dim>
-    struct CellProlong
+    struct ParentTable
     {
       CellGrid<dim> fine, coarse;
+      const int    *active;
+      int          *parent;
+      TWINFLOW_HD void operator()(int k) const
+      {
+        long long c[dim];
+        fine.decode(active[k], c);
+        for (int d = 0; d < dim; ++d) c[d] /= 2;
+        parent[k] = int(coarse.encode(c));
+      }
+    };
+
+    /// Prolongation: fine x[I] += factor · coarse x[parent(I)] (k: active index).
+    struct CellProlong
+    {
+      const int    *active, *parent;
       const double *xc;
       double       *x;
       double        factor;
-      TWINFLOW_HD void operator()(int i) const
-      {
-        long long c[dim];
-        fine.decode(i, c);
-        for (int d = 0; d < dim; ++d) c[d] /= 2;
-        x[i] += factor * xc[coarse.encode(c)];
-      }
+      TWINFLOW_HD void operator()(int k) const { x[active[k]] += factor * xc[parent[k]]; }
     };
 
     /// Particle level: f0 = D⁻¹ r, x = ω f0 (first Jacobi sweep from zero).
@@ -250,20 +280,27 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       }
     };
 
-    /// Particle level: res = f − D⁻¹ (A x), given Ax.
+    /// Particle level: res = f − D⁻¹ (A x), the SpMV fused in.
     struct ParticleResidual
     {
-      const double *inv_diag, *f, *Ax;
+      const int    *offsets, *indices;
+      const double *values, *inv_diag, *f, *x;
       double       *res;
-      TWINFLOW_HD void operator()(int i) const { res[i] = f[i] - inv_diag[i] * Ax[i]; }
+      TWINFLOW_HD void operator()(int i) const
+      {
+        double sum = 0;
+        for (int k = offsets[i]; k < offsets[i + 1]; ++k) sum += values[k] * x[indices[k]];
+        res[i] = f[i] - inv_diag[i] * sum;
+      }
     };
 
+    /// out = x + a y (out may alias x).
     struct AddScaled
     {
-      const double *y;
-      double       *x;
+      const double *x, *y;
+      double       *out;
       double        a;
-      TWINFLOW_HD void operator()(int i) const { x[i] += a * y[i]; }
+      TWINFLOW_HD void operator()(int i) const { out[i] = x[i] + a * y[i]; }
     };
 
     /// Restriction from particles: f[I] = Σ_{i in cell I} res[i].
@@ -467,6 +504,15 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     levels.resize(used);
     for (Level &L : levels)
     {
+      L.neighbours.resize(L.active.size() * S);
+      for_n((long long)L.active.size(), NeighbourTable<dim>{grid_of<dim>(L, periodic), ptr(L.active), ptr(L.stencil),
+                                                            ptr(L.neighbours)});
+      if (&L != &levels.back())
+      {
+        L.parent.resize(L.active.size());
+        for_n((long long)L.active.size(), ParentTable<dim>{grid_of<dim>(L, periodic), grid_of<dim>((&L)[1], periodic),
+                                                           ptr(L.active), ptr(L.parent)});
+      }
       // inactive cells must hold 0 (they are never written by the cycle)
       L.x.resize(L.n_total), L.f.resize(L.n_total), L.res.resize(L.n_total);
       thrust::fill(exec, L.x.begin(), L.x.end(), 0.0);
@@ -482,21 +528,20 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     const int n = int(r.size());
     const double omega = settings.jacobi_damping;
     for_n(n, ScaleFirstSweep{ptr(inv_diag), ptr(r), ptr(f0), ptr(x0), omega});
-    auto residual = [&] {
-      spmv(*offsets, *indices, *values, x0, res0);
-      for_n(n, ParticleResidual{ptr(inv_diag), ptr(f0), ptr(res0), ptr(res0)});
-    };
+    const ParticleResidual residual{ptr(*offsets), ptr(*indices), ptr(*values), ptr(inv_diag), ptr(f0), ptr(x0),
+                                    ptr(res0)};
     for (int k = 1; k < settings.smoothing_steps; ++k)
-      residual(), for_n(n, AddScaled{ptr(res0), ptr(x0), omega});
-    residual();
+      for_n(n, residual), for_n(n, AddScaled{ptr(x0), ptr(res0), ptr(x0), omega});
+    for_n(n, residual);
     const Level &L1 = levels.front();
     for_active(L1.active, ParticleRestrict{ptr(cell_start), ptr(sorted), ptr(res0), ptr(L1.f)});
     cycle(0);
     for_n(n, ParticleProlong{ptr(cell), ptr(L1.x), ptr(x0), settings.over_correction});
-    for (int k = 0; k < settings.smoothing_steps; ++k)
-      residual(), for_n(n, AddScaled{ptr(res0), ptr(x0), omega});
     if (z.size() != r.size()) z.resize(r.size());
-    thrust::copy(exec, x0.begin(), x0.end(), z.begin());
+    if (settings.smoothing_steps == 0)
+      thrust::copy(exec, x0.begin(), x0.end(), z.begin());
+    for (int k = 0; k < settings.smoothing_steps; ++k) // the last sweep writes z
+      for_n(n, residual), for_n(n, AddScaled{ptr(x0), ptr(res0), k + 1 == settings.smoothing_steps ? ptr(z) : ptr(x0), omega});
   }
 
   template <int dim>
@@ -507,8 +552,9 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     const auto    grid  = grid_of<dim>(L, periodic);
     const double  omega = settings.jacobi_damping;
     for_active(L.active, SetZero{ptr(L.x)}); // inactive cells are never written: they stay 0
+    const CellResidual<dim> residual{ptr(L.active), ptr(L.neighbours), ptr(L.stencil), ptr(L.x), ptr(L.f), ptr(L.res)};
     auto sweep = [&] {
-      for_active(L.active, CellResidual<dim>{grid, ptr(L.stencil), ptr(L.x), ptr(L.f), ptr(L.res)});
+      for_n((long long)L.active.size(), residual);
       for_active(L.active, CellJacobi<dim>{ptr(L.stencil), ptr(L.res), ptr(L.x), omega});
     };
     if (l + 1 == int(levels.size()))
@@ -518,10 +564,10 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     }
     for (int k = 0; k < settings.smoothing_steps; ++k) sweep();
     const Level &C = levels[l + 1];
-    for_active(L.active, CellResidual<dim>{grid, ptr(L.stencil), ptr(L.x), ptr(L.f), ptr(L.res)});
+    for_n((long long)L.active.size(), residual);
     for_active(C.active, CellRestrict<dim>{grid, grid_of<dim>(C, periodic), ptr(L.res), ptr(C.f)});
     cycle(l + 1);
-    for_active(L.active, CellProlong<dim>{grid, grid_of<dim>(C, periodic), ptr(C.x), ptr(L.x), settings.over_correction});
+    for_n((long long)L.active.size(), CellProlong{ptr(L.active), ptr(L.parent), ptr(C.x), ptr(L.x), settings.over_correction});
     for (int k = 0; k < settings.smoothing_steps; ++k) sweep();
   }
 

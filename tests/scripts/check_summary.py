@@ -2,8 +2,8 @@
 """Checks the accuracy section of a twinflow summary.json against tolerances.
 
 usage: check_summary.py SUMMARY.json QUANTITY=MAX_RELATIVE_ERROR [...]
-QUANTITY is matched against the start of the error entry's name (e.g. 'drag', 'lift',
-'pressure difference'). Exits 1 (with a table) if an entry is missing or above tolerance.
+QUANTITY is matched against the error entry's name: an exact match first, else the first entry
+whose name starts with it (e.g. 'drag', 'lift', 'pressure difference'). Exits 1 (with a table) if an entry is missing or above tolerance.
 """
 import json
 import sys
@@ -20,7 +20,8 @@ def main():
     for spec in sys.argv[2:]:
         name, tol = spec.split("=")
         tol = float(tol)
-        entry = next((e for e in errors if e.get("quantity", "").startswith(name)), None)
+        entry = next((e for e in errors if e.get("quantity", "") == name),
+                     next((e for e in errors if e.get("quantity", "").startswith(name)), None))
         if entry is None:
             print(f"MISSING  {name}: no such error entry in {sys.argv[1]}")
             ok = False

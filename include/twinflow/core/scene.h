@@ -81,6 +81,9 @@ namespace twinflow
     /// Martin & Moyce style front table (columns T, Z = x_f/a at T = t sqrt(2g/a), a = Reference
     /// length); absolute path, or empty.
     std::string reference_front_file;
+    /// Largest delay [s] of the experiment's time origin against an instantaneous release; > 0
+    /// adds the front error with the best delay in [0, this] (the raw error is always reported).
+    double reference_front_time_uncertainty = 0;
     /// Compare the final bulk pressure with rho |g| (H - dx/2 - y) (sph/hydrostatic_check.h).
     bool reference_hydrostatic = false;
 

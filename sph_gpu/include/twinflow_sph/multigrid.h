@@ -70,6 +70,8 @@ namespace twinflow::sph
         long long    n_total = 0;
         dvec<double> stencil;  ///< 3^dim values per cell: the Galerkin operator
         dvec<int>    active;   ///< cells with a row (particles below them); the others stay 0
+        dvec<int>    neighbours; ///< per active cell, 3^dim cell ids of its stencil (−1: none)
+        dvec<int>    parent;     ///< per active cell, its cell on the next coarser level
         mutable dvec<double> x, f, res;
       };
 
