@@ -93,30 +93,47 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       }
     };
 
-    /// Level-1 stencil of cell I: Σ over its particles i and their entries j of A_ij / A_ii.
+    /// Per particle i = sorted[j]: B_i(s) = Σ_{k in row i, cell(k) in slot s of cell(i)} A_ik / A_ii,
+    /// i.e. the row i of D⁻¹ A P (P: piecewise constant on the cells) as a 3^dim stencil around
+    /// cell(i), stored at the particle's cell-sorted position j.
     template <int dim>
-    struct ParticleGalerkin
+    struct ParticleCoupling
     {
       CellGrid<dim> grid;
-      const int    *cell_start, *sorted, *cell, *offsets, *indices;
+      const int    *sorted, *cell, *offsets, *indices;
       const double *values, *inv_diag;
+      double       *coupling;
+      TWINFLOW_HD void operator()(int j) const
+      {
+        constexpr int S = stencil_size<dim>();
+        const int     i = sorted[j];
+        double        acc[S];
+        for (int s = 0; s < S; ++s) acc[s] = 0;
+        long long cI[dim], cJ[dim];
+        grid.decode(cell[i], cI);
+        for (int e = offsets[i]; e < offsets[i + 1]; ++e)
+        {
+          grid.decode(cell[indices[e]], cJ);
+          acc[grid.slot(cI, cJ)] += inv_diag[i] * values[e];
+        }
+        for (int s = 0; s < S; ++s) coupling[(long long)j * S + s] = acc[s];
+      }
+    };
+
+    /// Level-1 stencil of cell I (Galerkin P^T D⁻¹ A P): the sum of its particles' B_i.
+    template <int dim>
+    struct CellFromParticles
+    {
+      const int    *cell_start, *sorted;
+      const double *coupling;
       double       *stencil;
       TWINFLOW_HD void operator()(int I) const
       {
         constexpr int S = stencil_size<dim>();
         double        acc[S];
         for (int s = 0; s < S; ++s) acc[s] = 0;
-        long long cI[dim], cJ[dim];
-        grid.decode(I, cI);
         for (int k = cell_start[I]; k < cell_start[I + 1]; ++k)
-        {
-          const int i = sorted[k];
-          for (int e = offsets[i]; e < offsets[i + 1]; ++e)
-          {
-            grid.decode(cell[indices[e]], cJ);
-            acc[grid.slot(cI, cJ)] += inv_diag[i] * values[e];
-          }
-        }
+          for (int s = 0; s < S; ++s) acc[s] += coupling[(long long)k * S + s];
         for (int s = 0; s < S; ++s) stencil[(long long)I * S + s] = acc[s];
       }
     };
@@ -158,14 +175,12 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     };
 
     /// Per active cell k: the cell ids of its 3^dim stencil slots, −1 where the slot is outside a
-    /// non-periodic direction or its coefficient is 0 (computed once per setup, so the cycle's
-    /// residuals do no index arithmetic).
+    /// non-periodic direction (computed once per setup, so the cycle does no index arithmetic).
     template <int dim>
     struct NeighbourTable
     {
       CellGrid<dim> grid;
       const int    *active;
-      const double *stencil;
       int          *neighbours;
       TWINFLOW_HD void operator()(int k) const
       {
@@ -174,8 +189,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
         long long     cI[dim], nb[dim];
         grid.decode(I, cI);
         for (int s = 0; s < S; ++s)
-          neighbours[(long long)k * S + s] =
-            stencil[(long long)I * S + s] != 0 && grid.neighbour(cI, s, nb) ? int(grid.encode(nb)) : -1;
+          neighbours[(long long)k * S + s] = grid.neighbour(cI, s, nb) ? int(grid.encode(nb)) : -1;
       }
     };
 
@@ -317,6 +331,37 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       }
     };
 
+    /// The coarse correction and the last post-smoothing sweep in one pass (ν = 1). With
+    /// x' = x + c P x_c, the smoothed residual is f − D⁻¹A x' = res − c (D⁻¹ A P x_c)_i, where res
+    /// is the residual before the correction and D⁻¹ A P is the per-particle coupling B:
+    /// z = x' + ω (res − c B x_c), without a second pass over the particle matrix.
+    template <int dim>
+    struct CorrectAndSmooth
+    {
+      const int    *active, *cell_start, *sorted, *neighbours;
+      const double *coupling, *xc, *x, *res;
+      double       *z;
+      double        c, omega;
+      TWINFLOW_HD void operator()(int k) const // over the active level-1 cells
+      {
+        constexpr int S = stencil_size<dim>();
+        const int     I = active[k];
+        double        xs[S];
+        for (int s = 0; s < S; ++s)
+        {
+          const int J = neighbours[(long long)k * S + s];
+          xs[s]       = J >= 0 ? xc[J] : 0.0;
+        }
+        for (int j = cell_start[I]; j < cell_start[I + 1]; ++j)
+        {
+          const int i  = sorted[j];
+          double    Bx = 0;
+          for (int s = 0; s < S; ++s) Bx += coupling[(long long)j * S + s] * xs[s];
+          z[i] = x[i] + c * xs[S / 2] + omega * (res[i] - c * Bx);
+        }
+      }
+    };
+
     struct ParticleProlong
     {
       const int    *cell;
@@ -369,6 +414,12 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     void for_active(const dvec<int> &active, const F &f)
     {
       for_n((long long)active.size(), OnActive<F>{ptr(active), f});
+    }
+    /// Runs a functor of the active index k = 0 … |active| − 1.
+    template <typename F>
+    void for_active_k(const dvec<int> &active, const F &f)
+    {
+      for_n((long long)active.size(), f);
     }
 
     /// Level 1: a cell is active if particles lie in it.
@@ -478,8 +529,10 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       for (int d = 0; d < dim; ++d) L1.n[d] = locate.grid.n[d];
       L1.n_total = n_cells;
       L1.stencil.resize(n_cells * S);
-      for_n(n_cells, ParticleGalerkin<dim>{locate.grid, ptr(cell_start), ptr(sorted), ptr(cell), ptr(offsets_),
-                                           ptr(indices_), ptr(values_), ptr(inv_diag), ptr(L1.stencil)});
+      coupling.resize((long long)n * S);
+      for_n(n, ParticleCoupling<dim>{locate.grid, ptr(sorted), ptr(cell), ptr(offsets_), ptr(indices_), ptr(values_), ptr(inv_diag),
+                                     ptr(coupling)});
+      for_n(n_cells, CellFromParticles<dim>{ptr(cell_start), ptr(sorted), ptr(coupling), ptr(L1.stencil)});
       select_active(n_cells, HasParticles{ptr(cell_start)}, L1.active);
     }
     while (levels[used - 1].n_total > kCoarsestCells && used < 64)
@@ -505,8 +558,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     for (Level &L : levels)
     {
       L.neighbours.resize(L.active.size() * S);
-      for_n((long long)L.active.size(), NeighbourTable<dim>{grid_of<dim>(L, periodic), ptr(L.active), ptr(L.stencil),
-                                                            ptr(L.neighbours)});
+      for_n((long long)L.active.size(), NeighbourTable<dim>{grid_of<dim>(L, periodic), ptr(L.active), ptr(L.neighbours)});
       if (&L != &levels.back())
       {
         L.parent.resize(L.active.size());
@@ -536,8 +588,15 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     const Level &L1 = levels.front();
     for_active(L1.active, ParticleRestrict{ptr(cell_start), ptr(sorted), ptr(res0), ptr(L1.f)});
     cycle(0);
-    for_n(n, ParticleProlong{ptr(cell), ptr(L1.x), ptr(x0), settings.over_correction});
     if (z.size() != r.size()) z.resize(r.size());
+    if (settings.smoothing_steps == 1)
+    {
+      for_active_k(L1.active, CorrectAndSmooth<dim>{ptr(L1.active), ptr(cell_start), ptr(sorted), ptr(L1.neighbours),
+                                                    ptr(coupling), ptr(L1.x), ptr(x0), ptr(res0), ptr(z),
+                                                    settings.over_correction, omega});
+      return;
+    }
+    for_n(n, ParticleProlong{ptr(cell), ptr(L1.x), ptr(x0), settings.over_correction});
     if (settings.smoothing_steps == 0)
       thrust::copy(exec, x0.begin(), x0.end(), z.begin());
     for (int k = 0; k < settings.smoothing_steps; ++k) // the last sweep writes z

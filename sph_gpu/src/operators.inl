@@ -169,8 +169,11 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
         dist = geometry::norm(r);
         if (dist > 0)
         {
-          e     = r / dist;
-          gradW = W.gradient(r);
+          // one square root and one division per pair: ∇W = (dW/dr) e (Eq. 21)
+          e                 = r * (1 / dist);
+          const double dWdr = W.derivative(dist);
+          for (int d = 0; d < dim; ++d)
+            gradW[d] = dWdr * e[d];
         }
         else
         {

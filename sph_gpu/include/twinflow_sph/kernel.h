@@ -16,11 +16,14 @@ namespace twinflow::sph
   {
     double h;        ///< smoothing length
     double sigma;    ///< normalisation σ_d / h^dim
+    double inv_h;    ///< 1 / h (the pair loops multiply: no division per pair)
+    double sigma_h;  ///< σ_d / h^(dim+1), the factor of dW/dr
 
-    TWINFLOW_HD explicit CubicSpline(double h_) : h(h_), sigma(0)
+    TWINFLOW_HD explicit CubicSpline(double h_) : h(h_), sigma(0), inv_h(1 / h_), sigma_h(0)
     {
       const double pi = 3.14159265358979323846;
       sigma           = dim == 2 ? 5.0 / (14.0 * pi * h * h) : 1.0 / (4.0 * pi * h * h * h);
+      sigma_h         = sigma * inv_h;
     }
 
     TWINFLOW_HD double support() const { return 2.0 * h; }
@@ -28,7 +31,7 @@ namespace twinflow::sph
     /// W(r, h), Eq. 18.
     TWINFLOW_HD double value(const double r) const
     {
-      const double q = r / h;
+      const double q = r * inv_h;
       if (q >= 2.0)
         return 0.0;
       const double a = 2.0 - q;
@@ -44,7 +47,7 @@ namespace twinflow::sph
     /// dW/dr (≤ 0).
     TWINFLOW_HD double derivative(const double r) const
     {
-      const double q = r / h;
+      const double q = r * inv_h;
       if (q >= 2.0)
         return 0.0;
       const double a = 2.0 - q;
@@ -54,7 +57,7 @@ namespace twinflow::sph
         const double b = 1.0 - q;
         d += 12.0 * b * b;
       }
-      return sigma * d / h;
+      return sigma_h * d;
     }
 
     /// ∇_i W_ij for r_ij = x_i − x_j, Eq. 21 (zero for r = 0).

@@ -53,11 +53,11 @@ namespace twinflow::sph
       /// Device memory held by the hierarchy and its work vectors [bytes].
       std::size_t memory_bytes() const
       {
-        std::size_t b = sizeof(double) * (inv_diag.size() + x0.size() + f0.size() + res0.size()) +
-                        sizeof(int) * (cell.size() + sorted.size() + cell_start.size());
+        std::size_t b = sizeof(double) * (inv_diag.size() + x0.size() + f0.size() + res0.size() + coupling.size()) +
+                        sizeof(int) * (cell.size() + sorted.size() + cell_start.size() + keys.size());
         for (const Level &L : levels)
           b += sizeof(double) * (L.stencil.size() + L.x.size() + L.f.size() + L.res.size()) +
-               sizeof(int) * L.active.size();
+               sizeof(int) * (L.active.size() + L.neighbours.size() + L.parent.size());
         return b;
       }
       /// Cells (rows) of coarse level l ≥ 1.
@@ -84,6 +84,7 @@ namespace twinflow::sph
       const dvec<double> *values  = nullptr;
       dvec<double>        inv_diag;
       dvec<int>           cell, sorted, cell_start, keys;
+      dvec<double>        coupling;     ///< per particle, row i of D⁻¹ A P as a 3^dim cell stencil
       mutable dvec<double> x0, f0, res0;
       std::vector<Level>  levels;
     };
