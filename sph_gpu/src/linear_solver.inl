@@ -7,6 +7,7 @@
 #include <thrust/for_each.h>
 #include <thrust/inner_product.h>
 #include <thrust/iterator/counting_iterator.h>
+#include <thrust/transform_reduce.h>
 
 #include <cmath>
 #include <limits>
@@ -66,6 +67,33 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
 
     double dot(const dvec<double> &a, const dvec<double> &b) { return thrust::inner_product(exec, a.begin(), a.end(), b.begin(), 0.0); }
     double norm(const dvec<double> &a) { return std::sqrt(dot(a, a)); }
+
+    /// Two inner products in one pass: (a·b, b·b).
+    struct DotPair
+    {
+      double ab, bb;
+    };
+    struct DotPairOf
+    {
+      const double *a, *b;
+      TWINFLOW_HD DotPair operator()(int i) const { return {a[i] * b[i], b[i] * b[i]}; }
+    };
+    struct AddDotPair
+    {
+      TWINFLOW_HD DotPair operator()(const DotPair &x, const DotPair &y) const { return {x.ab + y.ab, x.bb + y.bb}; }
+    };
+    DotPair dot_pair(const dvec<double> &a, const dvec<double> &b)
+    {
+      return thrust::transform_reduce(exec, thrust::counting_iterator<int>(0), thrust::counting_iterator<int>(int(b.size())),
+                                      DotPairOf{ptr(a), ptr(b)}, DotPair{0, 0}, AddDotPair());
+    }
+
+    /// x[i] += a y[i] + b z[i].
+    struct Axpby
+    {
+      double *x; double a; const double *y; double b; const double *z;
+      TWINFLOW_HD void operator()(int i) const { x[i] += a * y[i] + b * z[i]; }
+    };
 
     struct Csr { const dvec<int> &offsets, &indices; const dvec<double> &values; };
 
@@ -171,16 +199,17 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       apply(n, UpdateDirection{ptr(p), ptr(r), ptr(v), beta, omega});
       M.apply(p, p_hat);
       spmv(offsets, indices, values, p_hat, v);
-      const double r_hat_v = dot(r_hat, v);
-      if (!(std::abs(r_hat_v) > tiny * r_hat_norm * norm(v)))                 // (r̂, v) breakdown
+      const DotPair rv = dot_pair(r_hat, v); // (r̂·v, v·v)
+      if (!(std::abs(rv.ab) > tiny * r_hat_norm * std::sqrt(rv.bb)))         // (r̂, v) breakdown
       {
         if (recover()) continue;
         break;
       }
-      alpha = rho / r_hat_v;
+      alpha = rho / rv.ab;
       apply(n, Axpy{ptr(s), ptr(r), -alpha, ptr(v)});
       ++it;
-      if (norm(s) <= target)                                                  // half step suffices
+      const double s_norm = norm(s);
+      if (s_norm <= target)                                                   // half step suffices
       {
         apply(n, Axpy{ptr(x), ptr(x), alpha, ptr(p_hat)});
         r_norm = residual(A, b, x, r), restart = true;
@@ -188,15 +217,16 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       }
       M.apply(s, s_hat);
       spmv(offsets, indices, values, s_hat, t);
-      const double tt = dot(t, t), ts = dot(t, s);
-      apply(n, Axpy{ptr(x), ptr(x), alpha, ptr(p_hat)});
-      if (!(std::abs(ts) > tiny * std::sqrt(tt) * norm(s)))                  // omega breakdown
+      const DotPair st = dot_pair(s, t); // (t·s, t·t)
+      const double  tt = st.bb, ts = st.ab;
+      if (!(std::abs(ts) > tiny * std::sqrt(tt) * s_norm))                   // omega breakdown
       {
-        if (recover()) continue; // x already holds the half step
+        apply(n, Axpy{ptr(x), ptr(x), alpha, ptr(p_hat)});                    // keep the half step
+        if (recover()) continue;
         break;
       }
       omega = ts / tt;
-      apply(n, Axpy{ptr(x), ptr(x), omega, ptr(s_hat)});
+      apply(n, Axpby{ptr(x), alpha, ptr(p_hat), omega, ptr(s_hat)});
       apply(n, Axpy{ptr(r), ptr(s), -omega, ptr(t)});
       r_norm = norm(r), rho_old = rho;
       if (r_norm <= target) r_norm = residual(A, b, x, r), restart = true;
