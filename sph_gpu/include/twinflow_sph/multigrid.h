@@ -15,6 +15,12 @@
  * coarsest level (≤ 64 cells) is smoothed to convergence. Only the cells with particles below
  * them are visited (the dense grids cover the bounding box, mostly empty in a dam break). It is
  * a fixed linear operator, as BiCGStab requires.
+ *
+ * The setup keeps, per particle, its row of Â P (3^dim cell coefficients; their sums per cell
+ * are the level-1 stencil). With ν = 1 the post-smoothing residual after the coarse correction
+ * x' = x + c P x_c is then res − c (Â P) x_c, res being the residual before the correction: the
+ * last sweep needs no second pass over the particle matrix. Each cell level keeps its cells'
+ * stencil neighbours and parents as index tables, built once per setup.
  */
 #include <twinflow_sph/domain.h>
 #include <twinflow_sph/linear_solver.h>
