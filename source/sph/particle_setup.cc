@@ -134,15 +134,8 @@ namespace twinflow::sph
           }
           if (kind < 0)
             continue;
-          P.x.push_back(x);
-          P.u.push_back(geometry::Vec<dim>::zero());
-          P.p.push_back(kind == ParticleKind::fluid ? rho0 * g * std::max(0.0, y_top - x[up]) : 0.0);
-          P.rho.push_back(rho0);
-          P.kind.push_back(kind);
-          P.wall_velocity.push_back(geometry::Vec<dim>::zero());
-          P.wall_acceleration.push_back(geometry::Vec<dim>::zero());
-          P.normal.push_back(normal);
-          P.body.push_back(kind == ParticleKind::solid ? solid_index : -1);
+          P.add(x, geometry::Vec<dim>::zero(), kind == ParticleKind::fluid ? rho0 * g * std::max(0.0, y_top - x[up]) : 0.0,
+                rho0, kind, normal, kind == ParticleKind::solid ? solid_index : -1);
           n_fluid += kind == ParticleKind::fluid;
         }
     if (n_fluid == 0)

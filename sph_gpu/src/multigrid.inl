@@ -415,12 +415,6 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     {
       for_n((long long)active.size(), OnActive<F>{ptr(active), f});
     }
-    /// Runs a functor of the active index k = 0 … |active| − 1.
-    template <typename F>
-    void for_active_k(const dvec<int> &active, const F &f)
-    {
-      for_n((long long)active.size(), f);
-    }
 
     /// Level 1: a cell is active if particles lie in it.
     struct HasParticles
@@ -591,9 +585,9 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     if (z.size() != r.size()) z.resize(r.size());
     if (settings.smoothing_steps == 1)
     {
-      for_active_k(L1.active, CorrectAndSmooth<dim>{ptr(L1.active), ptr(cell_start), ptr(sorted), ptr(L1.neighbours),
-                                                    ptr(coupling), ptr(L1.x), ptr(x0), ptr(res0), ptr(z),
-                                                    settings.over_correction, omega});
+      for_n((long long)L1.active.size(),
+            CorrectAndSmooth<dim>{ptr(L1.active), ptr(cell_start), ptr(sorted), ptr(L1.neighbours), ptr(coupling),
+                                  ptr(L1.x), ptr(x0), ptr(res0), ptr(z), settings.over_correction, omega});
       return;
     }
     for_n(n, ParticleProlong{ptr(cell), ptr(L1.x), ptr(x0), settings.over_correction});

@@ -25,14 +25,7 @@ namespace
       for (int i = -1; i <= 1; ++i)
         for (int j = -1; j <= 1; ++j)
         {
-          P.x.push_back({{0.25 + 0.5 * dx * i, 0.52 + 0.5 * dx * j}});
-          P.u.push_back({{0.0, 0.0}});
-          P.p.push_back(0.0);
-          P.rho.push_back(1000.0);
-          P.kind.push_back(ParticleKind::fluid);
-          P.wall_velocity.push_back({{0.0, 0.0}});
-          P.wall_acceleration.push_back({{0.0, 0.0}});
-          P.normal.push_back({{0.0, 0.0}});
+          P.add({{0.25 + 0.5 * dx * i, 0.52 + 0.5 * dx * j}}, {{0.0, 0.0}}, 0.0, 1000.0);
         }
     SphParameters prm;
     prm.spacing                      = dx;

@@ -54,14 +54,8 @@ namespace
       for (int j = 0; j < n; ++j)
       {
         const double x = (i + 0.5) * dx, y = (j + 0.5) * dx;
-        P.x.push_back({{x, y}});
-        P.u.push_back({{U * std::sin(k * x) * std::cos(k * y), -U * std::cos(k * x) * std::sin(k * y)}});
-        P.p.push_back(0.25 * rho0 * U * U * (std::cos(2 * k * x) + std::cos(2 * k * y)));
-        P.rho.push_back(rho0);
-        P.kind.push_back(ParticleKind::fluid);
-        P.wall_velocity.push_back({{0, 0}});
-        P.wall_acceleration.push_back({{0, 0}});
-        P.normal.push_back({{0, 0}});
+        P.add({{x, y}}, {{U * std::sin(k * x) * std::cos(k * y), -U * std::cos(k * x) * std::sin(k * y)}},
+              0.25 * rho0 * U * U * (std::cos(2 * k * x) + std::cos(2 * k * y)), rho0);
       }
     EngineSettings s;
     s.spacing      = dx;

@@ -63,6 +63,16 @@ namespace twinflow::sph
     /// solid markers form solid 0. Used for the per-solid fluid force (Engine::solid_force).
     std::vector<int>                body;
     std::size_t size() const { return x.size(); }
+
+    /// Appends one particle; BCE velocity and acceleration start at zero.
+    void add(const geometry::Vec<dim> &x_, const geometry::Vec<dim> &u_, const double p_, const double rho_,
+             const int kind_ = ParticleKind::fluid, const geometry::Vec<dim> &normal_ = geometry::Vec<dim>::zero(),
+             const int body_ = -1)
+    {
+      x.push_back(x_), u.push_back(u_), p.push_back(p_), rho.push_back(rho_), kind.push_back(kind_);
+      wall_velocity.push_back(geometry::Vec<dim>::zero()), wall_acceleration.push_back(geometry::Vec<dim>::zero());
+      normal.push_back(normal_), body.push_back(body_);
+    }
   };
 
   /// What one step did (iterations, convergence, timings in seconds).
