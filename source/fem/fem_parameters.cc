@@ -17,11 +17,20 @@ namespace twinflow::fem
                       "> 0: the step is CFL * h_min / max|u|, capped by 'Time step'; 0: fixed step.");
     prm.declare_entry("Steady-state tolerance", "0", Patterns::Double(0),
                       "> 0: stop before the end time once max|u^{n+1}-u^n| / (dt max|u|) falls below it.");
-    prm.declare_entry("Refinement study", "", Patterns::List(Patterns::Integer(0, 12), 0, 12),
-                      "Global refinement levels of a refinement study (empty: a single run). Each level is "
-                      "run in <output>/fem/level_<n>/ and refinement_study.csv + a plot of error against wall time are written.");
+    prm.declare_entry("Checkpoint interval", "0", Patterns::Double(0),
+                      "> 0: write a checkpoint (mesh, every field, time-step history) every this many simulated "
+                      "seconds into <output>/fem/checkpoint.*; 0: none.");
+    prm.declare_entry("Restart file", "", Patterns::Anything(),
+                      "Checkpoint prefix to continue from (e.g. output/scene/fem/checkpoint); empty: start at t = 0. "
+                      "The scene and the FEM discretisation must be those that wrote it.");
     prm.enter_subsection("Navier-Stokes");
     NavierStokesParameters::declare(prm);
+    prm.leave_subsection();
+    prm.enter_subsection("Mesh adaptation");
+    MeshAdaptationParameters::declare(prm);
+    prm.leave_subsection();
+    prm.enter_subsection("Immersed boundary");
+    ImmersedBoundaryParameters::declare(prm);
     prm.leave_subsection();
     prm.leave_subsection();
   }
@@ -34,11 +43,16 @@ namespace twinflow::fem
     require(time_step > 0, "FEM/Time step", prm.get("Time step"), "the time step must be > 0");
     cfl              = prm.get_double("CFL number");
     steady_tolerance = prm.get_double("Steady-state tolerance");
-    study_levels.clear();
-    for (const auto &s : dealii::Utilities::split_string_list(prm.get("Refinement study")))
-      study_levels.push_back(std::stoi(s));
+    checkpoint_interval = prm.get_double("Checkpoint interval");
+    restart_file        = prm.get("Restart file");
     prm.enter_subsection("Navier-Stokes");
     navier_stokes.parse(prm);
+    prm.leave_subsection();
+    prm.enter_subsection("Mesh adaptation");
+    adaptation.parse(prm);
+    prm.leave_subsection();
+    prm.enter_subsection("Immersed boundary");
+    immersed_boundary.parse(prm);
     prm.leave_subsection();
     prm.leave_subsection();
   }

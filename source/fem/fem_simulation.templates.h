@@ -1,22 +1,20 @@
-// run_fem<dim>: composes the FEM simulation from a Scene and runs it.
+// FemSimulation<dim>: composition, mesh, adaptation and the time loop.
 #pragma once
 #include <twinflow/core/errors.h>
 #include <twinflow/fem/fem_simulation.h>
 #include <twinflow/fem/material_model.h>
 #include <twinflow/io/csv_monitor.h>
 #include <twinflow/io/mpi_utils.h>
-#include <twinflow/io/plots.h>
 #include <twinflow/io/progress.h>
 #include <twinflow/io/pvd_series.h>
-#include <twinflow/io/summary.h>
 
 #include <deal.II/base/conditional_ostream.h>
 #include <deal.II/base/function.h>
+#include <deal.II/base/quadrature_lib.h>
 #include <deal.II/base/timer.h>
-#include <deal.II/distributed/tria.h>
 #include <deal.II/grid/grid_generator.h>
 #include <deal.II/grid/grid_tools.h>
-#include <deal.II/numerics/data_out.h>
+#include <deal.II/numerics/error_estimator.h>
 
 #include <algorithm>
 #include <cmath>
@@ -105,62 +103,119 @@ namespace twinflow::fem
       face_id = {{0, 1, 2, 3, 5, 6}};
       return 4;
     }
+
+    /// Coarse cells of the box: as square as the extents allow (the IBM's ε and the
+    /// adaptation bands are measured in cells). The cell size is the shortest extent / n
+    /// for the smallest n ≤ 8 that divides every extent; otherwise the shortest extent.
+    template <int dim>
+    std::vector<unsigned int> box_subdivisions(const Scene &scene)
+    {
+      double shortest = 1e300;
+      for (unsigned int d = 0; d < dim; ++d)
+        shortest = std::min(shortest, scene.domain.upper[d] - scene.domain.lower[d]);
+      for (unsigned int n = 1; n <= 8; ++n)
+      {
+        const double              h = shortest / n;
+        std::vector<unsigned int> reps(dim);
+        bool                      fits = true;
+        for (unsigned int d = 0; d < dim; ++d)
+        {
+          const double m = (scene.domain.upper[d] - scene.domain.lower[d]) / h;
+          reps[d]        = std::max(1u, static_cast<unsigned int>(std::lround(m)));
+          fits           = fits && std::abs(m - reps[d]) < 1e-6 * m;
+        }
+        if (fits)
+          return reps;
+      }
+      std::vector<unsigned int> reps(dim);
+      for (unsigned int d = 0; d < dim; ++d)
+        reps[d] = std::max(1u, static_cast<unsigned int>(std::lround((scene.domain.upper[d] - scene.domain.lower[d]) / shortest)));
+      return reps;
+    }
   } // namespace internal
 
   template <int dim>
-  FemRunResult run_fem(const Scene &scene, const FemParameters &prm, const std::string &dir)
+  FemSimulation<dim>::FemSimulation(const Scene &s, const FemParameters &p, const std::string &d, MPI_Comm c)
+    : scene(s)
+    , prm(p)
+    , dir(d)
+    , comm(c)
+    , tria(comm, Triangulation<dim>::limit_level_difference_at_vertices)
+    , body_id(numbers::invalid_boundary_id)
   {
-    Timer              wall;
-    MPI_Comm           comm = MPI_COMM_WORLD;
-    ConditionalOStream pcout(std::cout, io::is_root_process(comm));
-    FemRunResult       result;
+    compose();
+  }
 
-    // ---- composition: only what the scene calls for -------------------------------------
+  template <int dim>
+  FemSimulation<dim>::~FemSimulation() = default;
+
+  template <int dim>
+  void FemSimulation<dim>::compose()
+  {
     if (scene.has_free_surface())
       throw InputError("Fluids/Number of fluids = 2: the FEM two-phase module (conservative level set, "
                        "Algorithm 1) is not available yet; allowed with FEM now: 1 fluid.");
-    const bool dfg_channel = scene.geometry == "channel with cylinder";
-    const bool fitted      = dfg_channel || scene.geometry == "box with cylinder";
-    if (scene.has_solids() && !fitted)
-      throw InputError("Solids/Number of solids = " + std::to_string(scene.solids.size()) +
-                       ": immersed solids (IBM, Eq. 15-16) are not available in the FEM yet; allowed now: "
-                       "Domain/Geometry = channel with cylinder or box with cylinder (body-fitted cylinder) or "
-                       "no solids.");
-    result.active_physics.push_back("navier-stokes (single phase, constant density)");
-    if (fitted)
-      result.active_physics.push_back("body-fitted fixed cylinder");
+    body_fitted = scene.geometry == "channel with cylinder" || scene.geometry == "box with cylinder";
+    for (const auto &s : scene.solids)
+      if (s.motion != SolidMotion::fixed)
+        throw InputError("Solids/" + s.name + "/Motion: moving solids (rigid body, ANCF) are not available in the "
+                         "FEM yet; allowed now: fixed");
+    const Fluid &fluid = scene.fluids.front();
+    material = std::make_unique<ConstantMaterial<dim>>(fluid.density, fluid.viscosity);
+    NavierStokesParameters nsp = prm.navier_stokes;
+    if (nsp.mapping_degree == 0)
+      nsp.mapping_degree = body_fitted ? nsp.velocity_degree : 1;
+    navier_stokes = std::make_unique<NavierStokes<dim>>(tria, nsp, *material);
+    physics.push_back(navier_stokes.get());
+
+    std::vector<std::string> &active = result.active_physics;
+    std::vector<std::string>  idle{"level set", "rigid body", "ANCF"};
+    active.push_back("navier-stokes (single phase, constant density)");
+    if (body_fitted)
+      active.push_back("body-fitted fixed cylinder");
+    if (scene.has_solids() && !body_fitted)
+    {
+      ibm = std::make_unique<ImmersedBoundary<dim>>(scene, prm.immersed_boundary);
+      navier_stokes->add_momentum_term(*ibm);
+      active.push_back("immersed boundary (Nitsche + penalty, " + std::to_string(scene.solids.size()) + " fixed solid(s))");
+    }
+    else
+      idle.insert(idle.begin(), "immersed boundary");
+    const bool interfaces = ibm != nullptr;
+    if (prm.adaptation.enabled() && (interfaces || prm.adaptation.kelly_fraction > 0))
+      active.push_back(std::string("mesh adaptation (levels ") + std::to_string(prm.adaptation.minimum_level) + "-" +
+                       std::to_string(prm.adaptation.maximum_level) + (interfaces ? ", band at phi_s = 0" : "") +
+                       (prm.adaptation.kelly_fraction > 0 ? ", Kelly" : "") + ")");
+    else
+      idle.insert(idle.begin(), "mesh adaptation");
     for (unsigned int d = 0; d < dim; ++d)
       if (scene.periodic[d])
-        result.active_physics.push_back(std::string("periodic ") + "xyz"[d]);
-    pcout << "FEM active physics: " << internal::join(result.active_physics, "; ")
-          << "  (not built: level set, immersed boundary, rigid body, ANCF)" << std::endl;
+        active.push_back(std::string("periodic ") + "xyz"[d]);
+    ConditionalOStream pcout(std::cout, io::is_root_process(comm));
+    pcout << "FEM active physics: " << internal::join(active, "; ") << "  (not built: " << internal::join(idle, ", ")
+          << ")" << std::endl;
+  }
 
-    // ---- mesh --------------------------------------------------------------------------
-    parallel::distributed::Triangulation<dim> tria(comm);
-    std::array<types::boundary_id, 6> face_id{{0, 1, 2, 3, 4, 5}};
-    types::boundary_id                body_id = numbers::invalid_boundary_id;
-    if (dfg_channel)
+  template <int dim>
+  void FemSimulation<dim>::make_coarse_mesh()
+  {
+    if (scene.geometry == "channel with cylinder")
     {
       GridGenerator::channel_with_cylinder(tria, 0.03, 2, 2.0, true);
       face_id = {{0, 1, 3, 3, 3, 3}};
       body_id = 2;
     }
-    else if (fitted)
+    else if (scene.geometry == "box with cylinder")
       body_id = internal::make_box_with_cylinder(tria, scene, face_id);
     else
     {
-      Point<dim>                p1, p2;
-      std::vector<unsigned int> reps(dim);
-      double                    hmin = 1e300;
+      Point<dim> p1, p2;
       for (unsigned int d = 0; d < dim; ++d)
       {
         p1[d] = scene.domain.lower[d];
         p2[d] = scene.domain.upper[d];
-        hmin  = std::min(hmin, p2[d] - p1[d]);
       }
-      for (unsigned int d = 0; d < dim; ++d)
-        reps[d] = std::max(1u, static_cast<unsigned int>(std::lround((p2[d] - p1[d]) / hmin)));
-      GridGenerator::subdivided_hyper_rectangle(tria, reps, p1, p2, true);
+      GridGenerator::subdivided_hyper_rectangle(tria, internal::box_subdivisions<dim>(scene), p1, p2, true);
     }
     std::vector<GridTools::PeriodicFacePair<typename parallel::distributed::Triangulation<dim>::cell_iterator>> faces;
     for (unsigned int d = 0; d < dim; ++d)
@@ -168,18 +223,13 @@ namespace twinflow::fem
         GridTools::collect_periodic_faces(tria, face_id[2 * d], face_id[2 * d + 1], d, faces);
     if (!faces.empty())
       tria.add_periodicity(faces);
-    tria.refine_global(prm.global_refinements);
+  }
 
-    // ---- solver ------------------------------------------------------------------------
-    const Fluid            &fluid = scene.fluids.front();
-    ConstantMaterial<dim>   material(fluid.density, fluid.viscosity);
-    NavierStokesParameters  nsp = prm.navier_stokes;
-    if (nsp.mapping_degree == 0)
-      nsp.mapping_degree = fitted ? nsp.velocity_degree : 1;
-    NavierStokes<dim> ns(tria, nsp, material);
-
-    std::shared_ptr<Function<dim>> inflow;
-    bool                           periodic_set[3] = {false, false, false};
+  template <int dim>
+  void FemSimulation<dim>::set_boundary_conditions()
+  {
+    NavierStokes<dim> &ns = *navier_stokes;
+    bool periodic_set[3] = {false, false, false};
     for (unsigned int f = 0; f < 2 * dim; ++f)
     {
       const unsigned int axis = f / 2;
@@ -202,7 +252,7 @@ namespace twinflow::fem
           break;
       }
     }
-    if (fitted)
+    if (body_fitted)
       ns.set_dirichlet(body_id, std::make_shared<Functions::ZeroFunction<dim>>(dim));
     std::vector<double> accel(dim);
     bool                any_accel = false;
@@ -213,118 +263,118 @@ namespace twinflow::fem
     }
     if (any_accel)
       ns.set_acceleration(std::make_shared<Functions::ConstantFunction<dim>>(accel));
-    ns.setup();
+  }
+
+  template <int dim>
+  void FemSimulation<dim>::refine_initial_mesh()
+  {
+    tria.refine_global(prm.global_refinements);
+    if (!adaptation)
+      return;
+    // No field exists yet: refine towards the interfaces until the marking settles.
+    for (unsigned int k = 0; k <= prm.adaptation.maximum_level + 1; ++k)
+    {
+      if (!adaptation->mark(nullptr))
+        break;
+      tria.execute_coarsening_and_refinement();
+    }
+    adaptation->mark_adapted();
+  }
+
+  template <int dim>
+  void FemSimulation<dim>::setup()
+  {
+    make_coarse_mesh();
+    set_boundary_conditions();
+    if (prm.adaptation.enabled() && (ibm || prm.adaptation.kelly_fraction > 0))
+    {
+      adaptation = std::make_unique<MeshAdaptation<dim>>(tria, prm.adaptation);
+      if (ibm)
+        for (auto &s : ibm->solids())
+          adaptation->register_interface(*s);
+      if (ibm && prm.immersed_boundary.interface_width > prm.adaptation.band_width)
+        throw InputError("FEM/Mesh adaptation/Band width = " + std::to_string(prm.adaptation.band_width) +
+                         ": the band must cover the smoothed solid interface (FEM/Immersed boundary/Interface width = " +
+                         std::to_string(prm.immersed_boundary.interface_width) + " cells)");
+    }
+    if (!prm.restart_file.empty())
+    {
+      load_checkpoint(prm.restart_file);
+      return;
+    }
+    refine_initial_mesh();
+    for (auto *p : physics)
+      p->setup_dofs();
     // Initial state: the undisturbed inflow (if any) everywhere, hydrostatic pressure.
-    Functions::ZeroFunction<dim>          zero(dim);
-    internal::HydrostaticPressure<dim>    p0(fluid.density, scene.gravity);
-    ns.initialize(inflow ? *inflow : static_cast<const Function<dim> &>(zero), p0, 0.0);
+    Functions::ZeroFunction<dim>       zero(dim);
+    internal::HydrostaticPressure<dim> p0(scene.fluids.front().density, scene.gravity);
+    navier_stokes->initialize(inflow ? *inflow : static_cast<const Function<dim> &>(zero), p0, 0.0);
+  }
 
-    result.cells = tria.n_global_active_cells();
-    result.dofs  = ns.n_velocity_dofs() + ns.n_pressure_dofs();
-    pcout << "FEM mesh: " << result.cells << " cells, " << ns.n_velocity_dofs() << " velocity + "
-          << ns.n_pressure_dofs() << " pressure DoFs, Q" << nsp.velocity_degree << "/Q" << nsp.velocity_degree - 1
-          << ", " << Utilities::MPI::n_mpi_processes(comm) << " MPI rank(s)" << std::endl;
-
-    // ---- monitors ----------------------------------------------------------------------
-    io::ensure_directory(dir);
-    const double area = scene.reference_length * (dim == 3 ? scene.domain.upper[2] - scene.domain.lower[2] : 1.0);
-    const double coefficient_scale = 2.0 / (fluid.density * scene.reference_velocity * scene.reference_velocity * area);
-    std::unique_ptr<io::CsvMonitor> forces_csv, probes_csv, energy_csv;
-    const bool want_forces = scene.monitors_contain("forces") && body_id != numbers::invalid_boundary_id;
-    if (want_forces)
+  template <int dim>
+  void FemSimulation<dim>::adapt_mesh()
+  {
+    if (!adaptation)
+      return;
+    std::unique_ptr<Vector<float>> indicator;
+    if (prm.adaptation.kelly_fraction > 0)
     {
-      std::vector<std::string> cols{"time", "Fx", "Fy"}, units{"s", "N", "N"};
-      if (dim == 3) { cols.push_back("Fz"); units.push_back("N"); }
-      cols.insert(cols.end(), {"C_d", "C_l"});
-      units.insert(units.end(), {"-", "-"});
-      forces_csv = std::make_unique<io::CsvMonitor>(dir + "/forces.csv", cols, units, comm, "forces");
+      indicator = std::make_unique<Vector<float>>(tria.n_active_cells());
+      const auto &dofs = navier_stokes->velocity_dof_handler();
+      KellyErrorEstimator<dim>::estimate(navier_stokes->get_mapping(), dofs, QGauss<dim - 1>(dofs.get_fe().degree + 1),
+                                         {}, navier_stokes->velocity(), *indicator);
     }
-    if (scene.monitors_contain("pressure probes"))
+    if (!adaptation->mark(indicator.get()))
     {
-      std::vector<std::string> cols{"time"}, units{"s"};
-      for (unsigned int k = 0; k < scene.pressure_probes.size(); ++k)
-      {
-        cols.push_back("p" + std::to_string(k + 1));
-        units.push_back("Pa");
-      }
-      if (scene.pressure_probes.size() >= 2) { cols.push_back("dp"); units.push_back("Pa"); }
-      probes_csv = std::make_unique<io::CsvMonitor>(dir + "/pressure_probes.csv", cols, units, comm, "pressure probes");
+      adaptation->mark_adapted();
+      return;
     }
-    if (scene.monitors_contain("energy"))
-      energy_csv = std::make_unique<io::CsvMonitor>(dir + "/energy.csv",
-                                                    std::vector<std::string>{"time", "kinetic energy", "divergence L2", "dt"},
-                                                    std::vector<std::string>{"s", "J", "1/s", "s"}, comm, "energy");
+    for (auto *p : physics)
+      p->prepare_transfer(false);
+    tria.execute_coarsening_and_refinement();
+    for (auto *p : physics)
+    {
+      p->setup_dofs();
+      p->finish_transfer(false);
+    }
+    adaptation->mark_adapted();
+    ++result.adaptations;
+  }
 
-    auto record = [&](double dt, double divergence) {
-      const double t = ns.time();
-      if (forces_csv)
-      {
-        const Tensor<1, dim> F = ns.boundary_force(body_id);
-        std::vector<double>  row{t};
-        for (unsigned int d = 0; d < dim; ++d)
-          row.push_back(F[d]);
-        row.push_back(coefficient_scale * F[0]);
-        row.push_back(coefficient_scale * F[1]);
-        forces_csv->append(row);
-        result.monitors["C_d"] = coefficient_scale * F[0];
-        result.monitors["C_l"] = coefficient_scale * F[1];
-      }
-      if (probes_csv)
-      {
-        std::vector<double> row{t};
-        for (const auto &x : scene.pressure_probes)
-        {
-          Point<dim> p;
-          for (unsigned int d = 0; d < dim; ++d)
-            p[d] = x[d];
-          row.push_back(ns.pressure_at(p));
-          result.monitors["p" + std::to_string(row.size() - 1)] = row.back();
-        }
-        if (scene.pressure_probes.size() >= 2)
-        {
-          row.push_back(row[1] - row[2]);
-          result.monitors["dp"] = row.back();
-        }
-        probes_csv->append(row);
-      }
-      if (energy_csv)
-      {
-        const double e = ns.kinetic_energy();
-        energy_csv->append({t, e, divergence, dt});
-        result.monitors["kinetic energy"] = e;
-      }
-    };
+  template <int dim>
+  double FemSimulation<dim>::next_time_step() const
+  {
+    double dt = prm.time_step;
+    if (prm.cfl > 0)
+      dt = std::min(dt, prm.cfl * navier_stokes->minimal_cell_diameter() / std::max(navier_stokes->max_velocity(), 1e-12));
+    return std::min(dt, scene.end_time - navier_stokes->time());
+  }
 
-    // ---- output ------------------------------------------------------------------------
-    io::PvdSeries pvd(dir, "solution", comm);
-    unsigned int  output_count = 0;
-    auto write_output = [&]() {
-      DataOut<dim> data_out;
-      data_out.attach_triangulation(tria);
-      ns.add_to_output(data_out);
-      Vector<float> subdomain(tria.n_active_cells());
-      for (unsigned int i = 0; i < subdomain.size(); ++i)
-        subdomain(i) = tria.locally_owned_subdomain();
-      data_out.add_data_vector(subdomain, "subdomain");
-      data_out.build_patches(ns.get_mapping(), nsp.velocity_degree, DataOut<dim>::curved_inner_cells);
-      const std::string name = data_out.write_vtu_with_pvtu_record(dir + "/", "solution", output_count++, comm, 4);
-      pvd.add(ns.time(), name);
-    };
-
-    // ---- time loop ---------------------------------------------------------------------
-    const double     h_min = ns.minimal_cell_diameter();
-    io::ProgressReporter progress(0.0, scene.end_time, std::cout, comm, 2.0);
-    double           next_output = scene.output_interval;
-    bool             steady      = false;
-    if (scene.output_interval > 0)
+  template <int dim>
+  FemRunResult FemSimulation<dim>::run()
+  {
+    Timer wall;
+    setup();
+    NavierStokes<dim> &ns = *navier_stokes;
+    ConditionalOStream pcout(std::cout, io::is_root_process(comm));
+    pcout << "FEM mesh: " << tria.n_global_active_cells() << " cells (levels " << tria.n_global_levels() - 1
+          << " max), " << ns.n_velocity_dofs() << " velocity + " << ns.n_pressure_dofs() << " pressure DoFs, Q"
+          << prm.navier_stokes.velocity_degree << "/Q" << prm.navier_stokes.velocity_degree - 1 << ", "
+          << Utilities::MPI::n_mpi_processes(comm) << " MPI rank(s)" << std::endl;
+    open_monitors();
+    const double t0 = ns.time();
+    io::ProgressReporter progress(t0, scene.end_time, std::cout, comm, 2.0);
+    bool steady = false;
+    if (scene.output_interval > 0 && ns.n_steps() == 0)
       write_output();
+    if (prm.checkpoint_interval > 0)
+      next_checkpoint = (std::floor(t0 / prm.checkpoint_interval + 1e-9) + 1) * prm.checkpoint_interval;
     while (ns.time() < scene.end_time * (1 - 1e-12) && !steady)
     {
-      double dt = prm.time_step;
-      if (prm.cfl > 0)
-        dt = std::min(dt, prm.cfl * h_min / std::max(ns.max_velocity(), 1e-12));
-      dt = std::min(dt, scene.end_time - ns.time());
-      const StepStatistics &st = ns.step(dt);
+      const double dt = next_time_step();
+      for (auto *p : physics)
+        p->advance(dt);
+      const StepStatistics &st = ns.statistics();
       if (!std::isfinite(st.divergence_l2) || !std::isfinite(st.velocity_change))
         throw std::runtime_error("FEM solution diverged at t = " + std::to_string(ns.time()) + " (step " +
                                  std::to_string(ns.n_steps()) + "): reduce FEM/Time step or FEM/CFL number. "
@@ -335,49 +385,31 @@ namespace twinflow::fem
         write_output();
         next_output += scene.output_interval;
       }
-      const double umax = std::max(ns.max_velocity(), 1e-300);
-      const double rate = st.velocity_change / (dt * umax);
-      steady            = prm.steady_tolerance > 0 && ns.n_steps() > 2 && rate < prm.steady_tolerance;
+      if (prm.checkpoint_interval > 0 && ns.time() >= next_checkpoint * (1 - 1e-9))
+      {
+        write_checkpoint(dir + "/checkpoint");
+        next_checkpoint += prm.checkpoint_interval;
+      }
+      if (adaptation && adaptation->due(ns.n_steps()))
+        adapt_mesh();
+      const double rate = st.velocity_change / (dt * std::max(ns.max_velocity(), 1e-300));
+      steady = prm.steady_tolerance > 0 && ns.n_steps() > 2 && rate < prm.steady_tolerance;
       std::ostringstream extra;
-      extra << "dt " << dt << "  its " << st.velocity_iterations << "/" << st.pressure_iterations
-            << "  |du/dt|/|u| " << rate;
+      extra << "dt " << dt << "  its " << st.velocity_iterations << "/" << st.pressure_iterations << "  |du/dt|/|u| "
+            << rate;
+      if (adaptation)
+        extra << "  cells " << tria.n_global_active_cells();
       progress.update(ns.time(), ns.n_steps(), extra.str());
     }
     progress.finish(steady ? "steady state reached" : "");
     if (scene.output_interval == 0)
       write_output();
-
-    // ---- summary -----------------------------------------------------------------------
     result.steps      = ns.n_steps();
     result.final_time = ns.time();
     result.wall_time  = wall.wall_time();
-    io::RunSummary summary(comm);
-    summary.set_method("fem");
-    summary.set_dimension(dim);
-    summary.set_scene(scene.name);
-    summary.set_cells(result.cells);
-    summary.set_dofs("velocity", ns.n_velocity_dofs());
-    summary.set_dofs("pressure", ns.n_pressure_dofs());
-    summary.set_steps(result.steps);
-    summary.set_final_time(result.final_time);
-    summary.set_wall_time(result.wall_time);
-    summary.set_timer_sections(ns.timer());
-    summary.set_monitor_values(result.monitors);
-    summary.set_extra("active physics", internal::join(result.active_physics, "; "));
-    summary.set_extra("mpi ranks", Utilities::MPI::n_mpi_processes(comm));
-    summary.set_extra("time per step [s]", result.wall_time / std::max(1u, result.steps));
-    auto compare = [&](const char *name, const char *key, const std::optional<double> &ref) {
-      if (ref && result.monitors.count(key))
-      {
-        summary.add_error(name, result.monitors[key], *ref);
-        result.relative_errors[key] = std::abs(result.monitors[key] - *ref) / std::abs(*ref);
-      }
-    };
-    compare("drag coefficient C_d", "C_d", scene.reference_drag);
-    compare("lift coefficient C_l", "C_l", scene.reference_lift);
-    compare("pressure difference", "dp", scene.reference_pressure_difference);
-    summary.write_json(dir + "/summary.json");
-    summary.print_table(std::cout);
+    result.cells      = tria.n_global_active_cells();
+    result.dofs       = ns.n_velocity_dofs() + ns.n_pressure_dofs();
+    write_summary();
     return result;
   }
 } // namespace twinflow::fem

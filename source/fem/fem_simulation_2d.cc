@@ -1,5 +1,5 @@
-// Explicit instantiation of run_fem<2>.
+// Explicit instantiation of FemSimulation<2>.
 #include "fem_simulation.templates.h"
+#include "fem_simulation_io.templates.h"
 
-template twinflow::fem::FemRunResult
-twinflow::fem::run_fem<2>(const twinflow::Scene &, const twinflow::fem::FemParameters &, const std::string &);
+template class twinflow::fem::FemSimulation<2>;

@@ -115,7 +115,7 @@ namespace twinflow::fem
   }
 
   template <int dim>
-  void NavierStokes<dim>::setup()
+  void NavierStokes<dim>::setup_dofs()
   {
     TimerOutput::Scope scope(timer_output, "setup");
     force_dofs.clear();
@@ -143,8 +143,21 @@ namespace twinflow::fem
       SparsityTools::distribute_sparsity_pattern(dsp, pressure_owned, comm, pressure_relevant);
       pressure_laplace.reinit(pressure_owned, pressure_owned, dsp, comm);
     }
+    assemble_pressure_laplacian();
+    rebuild_velocity_preconditioner = true;
 
-    // Pressure-increment Laplacian: constant for a fixed mesh, assembled once.
+    velocity_rhs.reinit(velocity_owned, comm);
+    pressure_rhs.reinit(pressure_owned, comm);
+    for (auto *v : {&u_n, &u_nm1})
+      v->reinit(velocity_owned, velocity_relevant, comm);
+    for (auto *v : {&p_n, &phi_n, &phi_nm1})
+      v->reinit(pressure_owned, pressure_relevant, comm);
+  }
+
+  template <int dim>
+  void NavierStokes<dim>::assemble_pressure_laplacian()
+  {
+    // Pressure-increment Laplacian: depends on the mesh only, rebuilt after each adaptation.
     const QGauss<dim>   quad(fe_pressure.degree + 1);
     FEValues<dim>       fev(mapping, fe_pressure, quad, update_gradients | update_JxW_values);
     const unsigned int  n = fe_pressure.n_dofs_per_cell();
@@ -170,13 +183,6 @@ namespace twinflow::fem
     amg.smoother_sweeps       = 2;
     amg.aggregation_threshold = 0.02;
     pressure_amg.initialize(pressure_laplace, amg);
-
-    velocity_rhs.reinit(velocity_owned, comm);
-    pressure_rhs.reinit(pressure_owned, comm);
-    for (auto *v : {&u_n, &u_nm1})
-      v->reinit(velocity_owned, velocity_relevant, comm);
-    for (auto *v : {&p_n, &phi_n, &phi_nm1})
-      v->reinit(pressure_owned, pressure_relevant, comm);
   }
 
   template <int dim>
@@ -278,13 +284,14 @@ namespace twinflow::fem
     std::vector<unsigned int>            comp(n);
     for (unsigned int i = 0; i < n; ++i)
       comp[i] = fe_velocity.system_to_component_index(i).first;
-    std::vector<double>         s(n);
-    std::vector<Tensor<1, dim>> ds(n);
+    std::vector<double>         s(n), fraction(nq);
+    std::vector<Tensor<1, dim>> ds(n), u_star(nq);
     MaterialValues<dim>         mat;
     const double pressure_w1 = (prm.scheme == TimeScheme::bdf2) ? 4. / 3. : 1.;
     const double pressure_w2 = (prm.scheme == TimeScheme::bdf2) ? -1. / 3. : 0.;
     if (acceleration) acceleration->set_time(t_new);
     if (force_density) force_density->set_time(t_new);
+    std::vector<const MomentumTerm<dim> *> active_terms;
 
     for (const auto &cell : velocity_dofs.active_cell_iterators())
     {
@@ -303,22 +310,37 @@ namespace twinflow::fem
       material.evaluate(cell, fev.get_quadrature_points(), t_new, mat);
       if (acceleration) acceleration->vector_value_list(fev.get_quadrature_points(), g_val);
       if (force_density) force_density->vector_value_list(fev.get_quadrature_points(), f_val);
+      for (unsigned int q = 0; q < nq; ++q)
+        u_star[q] = c.e0 * un[q] + c.e1 * unm1[q];
+
+      // Other physics' terms on this cell (IBM, ...) and the fluid fraction they leave.
+      const MomentumCell<dim> term_cell{cell, fev, comp, u_star, mat, symmetric, t_new, dt};
+      std::fill(fraction.begin(), fraction.end(), 1.0);
+      active_terms.clear();
+      for (const auto *term : momentum_terms)
+        if (term->acts_on(cell))
+        {
+          active_terms.push_back(term);
+          term->scale_fluid_fraction(term_cell, fraction);
+        }
 
       cell_matrix = 0;
       cell_rhs    = 0;
       for (unsigned int q = 0; q < nq; ++q)
       {
-        const double rho = mat.density[q], mu = mat.viscosity[q], JxW = fev.JxW(q);
-        const Tensor<1, dim> u_star   = c.e0 * un[q] + c.e1 * unm1[q];
-        const double         div_star = c.e0 * div_un[q] + c.e1 * div_unm1[q];
+        // Inertia, convection, viscosity and body force act on the fluid fraction w; the
+        // pressure gradient everywhere (Section 3.3.1: inside a solid only ∇p and the penalty).
+        const double w = fraction[q];
+        const double rho = w * mat.density[q], mu = w * mat.viscosity[q], JxW = fev.JxW(q);
+        const double div_star = c.e0 * div_un[q] + c.e1 * div_unm1[q];
         double mass = rho * c.a0 / dt + 0.5 * rho * div_star;
         if (!constant)
-          mass += 0.5 * (mat.density_rate[q] + mat.density_gradient[q] * u_star);
+          mass += 0.5 * w * (mat.density_rate[q] + mat.density_gradient[q] * u_star[q]);
         Tensor<1, dim> rhs = -rho / dt * (c.a1 * un[q] + c.a2 * unm1[q]);
         for (unsigned int d = 0; d < dim; ++d)
         {
           if (acceleration) rhs[d] += rho * g_val[q](d);
-          if (force_density) rhs[d] += f_val[q](d);
+          if (force_density) rhs[d] += w * f_val[q](d);
         }
         const double p_sharp = p_val[q] + pressure_w1 * phi_val[q] + pressure_w2 * phim_val[q];
         for (unsigned int i = 0; i < n; ++i)
@@ -333,7 +355,7 @@ namespace twinflow::fem
           {
             double a = 0;
             if (ci == comp[j])
-              a = (mass * s[j] + rho * (u_star * ds[j])) * s[i] + mu * (ds[i] * ds[j]);
+              a = (mass * s[j] + rho * (u_star[q] * ds[j])) * s[i] + mu * (ds[i] * ds[j]);
             if (symmetric)
               a += mu * ds[i][comp[j]] * ds[j][ci];
             cell_matrix(i, j) += a * JxW;
@@ -341,6 +363,8 @@ namespace twinflow::fem
           cell_rhs(i) += (rhs[ci] * s[i] + p_sharp * ds[i][ci]) * JxW;
         }
       }
+      for (const auto *term : active_terms)
+        term->assemble(term_cell, cell_matrix, cell_rhs);
       cell->get_dof_indices(indices);
       velocity_constraints.distribute_local_to_global(cell_matrix, cell_rhs, indices, velocity_matrix, velocity_rhs);
     }
@@ -352,8 +376,9 @@ namespace twinflow::fem
   unsigned int NavierStokes<dim>::solve_velocity()
   {
     const bool use_ilu = prm.velocity_preconditioner == "ilu";
-    if (step_number % prm.amg_rebuild_interval == 0 || step_number == 0)
+    if (step_number % prm.amg_rebuild_interval == 0 || rebuild_velocity_preconditioner)
     {
+      rebuild_velocity_preconditioner = false;
       if (use_ilu)
         velocity_ilu.initialize(velocity_matrix);
       else

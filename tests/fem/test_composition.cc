@@ -89,17 +89,50 @@ TEST(Composition, UnavailableModulesAreRefusedClearly)
   }
   {
     const auto [scene, prm] = load("subsection Solids\n set Number of solids = 1\n subsection Solid 1\n"
-                                   "  set Center = 1, 0.5\n  set Radius = 0.1\n end\nend\n");
+                                   "  set Center = 1, 0.5\n  set Radius = 0.1\n  set Motion = rigid\n end\nend\n");
     try
     {
-      fem::run_fem<2>(scene, prm, "composition_solid");
-      FAIL() << "an immersed solid must be refused until the IBM exists";
+      fem::run_fem<2>(scene, prm, "composition_rigid");
+      FAIL() << "a moving solid must be refused until the rigid-body coupling exists";
     }
     catch (const InputError &e)
     {
-      EXPECT_NE(std::string(e.what()).find("immersed"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("fixed"), std::string::npos) << e.what();
     }
   }
+}
+
+TEST(Composition, NoSolidMeansNoImmersedBoundaryAndNoBandRefinement)
+{
+  // Adaptation asked for, but nothing to follow: the mesh stays uniform.
+  const auto [scene, prm] = load("subsection FEM\n subsection Mesh adaptation\n  set Maximum level = 4\n end\nend\n");
+  fem::FemSimulation<2> sim(scene, prm, "composition_no_solid");
+  const auto            r = sim.run();
+  EXPECT_EQ(sim.immersed_boundary(), nullptr);
+  EXPECT_EQ(sim.mesh_adaptation(), nullptr);
+  EXPECT_FALSE(mentions(r.active_physics, "immersed"));
+  EXPECT_FALSE(mentions(r.active_physics, "adaptation"));
+  EXPECT_EQ(r.cells, 8u); // 2 x 1 coarse cells, 1 global refinement
+  EXPECT_EQ(r.adaptations, 0u);
+}
+
+TEST(Composition, FixedSolidBuildsImmersedBoundaryButNoRigidBody)
+{
+  const auto [scene, prm] = load("subsection Solids\n set Number of solids = 1\n subsection Solid 1\n"
+                                 "  set Center = 1, 0.5\n  set Radius = 0.1\n end\nend\n"
+                                 "subsection FEM\n subsection Mesh adaptation\n  set Minimum level = 1\n"
+                                 "  set Maximum level = 4\n  set Band width = 2\n end\nend\n");
+  fem::FemSimulation<2> sim(scene, prm, "composition_fixed_solid");
+  const auto            r = sim.run();
+  ASSERT_NE(sim.immersed_boundary(), nullptr);
+  ASSERT_NE(sim.mesh_adaptation(), nullptr);
+  EXPECT_TRUE(mentions(r.active_physics, "immersed boundary"));
+  EXPECT_TRUE(mentions(r.active_physics, "band at phi_s = 0"));
+  EXPECT_FALSE(mentions(r.active_physics, "rigid"));
+  EXPECT_FALSE(mentions(r.active_physics, "level set"));
+  EXPECT_GT(r.cells, 8u);          // refined towards the disk
+  EXPECT_LT(r.cells, 256u);        // but not everywhere (uniform level 4: 512 cells)
+  EXPECT_EQ(r.adaptations, 0u);    // a fixed solid: refined once, before the first step
 }
 
 TEST(Composition, CflControlLimitsTheStep)

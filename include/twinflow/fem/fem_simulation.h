@@ -1,30 +1,45 @@
 #pragma once
 /**
  * @file fem_simulation.h
- * The Eulerian simulation composed from a Scene: it builds the mesh, the Navier–Stokes
- * solver and only the auxiliary physics the scene calls for, runs the time loop with
- * monitors, output, progress and a cost/accuracy summary.
+ * The Eulerian simulation composed from a Scene (DESIGN.md "FEM structure"): FemSimulation
+ * owns the mesh, the physics the scene calls for (Navier–Stokes always; the immersed
+ * boundary for solids on a box mesh; mesh adaptation when asked), the monitors and the
+ * time loop; every field physics follows the FieldPhysics life cycle (field_physics.h).
  */
 #include <twinflow/core/scene.h>
+#include <twinflow/fem/immersed_boundary.h>
+#include <twinflow/fem/mesh_adaptation.h>
 #include <twinflow/fem/navier_stokes.h>
 
 #include <deal.II/base/parameter_handler.h>
+#include <deal.II/distributed/tria.h>
 
+#include <array>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
+
+namespace twinflow::io
+{
+  class CsvMonitor;
+  class PvdSeries;
+} // namespace twinflow::io
 
 namespace twinflow::fem
 {
   /// Method parameters of the FEM solver (subsection "FEM").
   struct FemParameters
   {
-    unsigned int           global_refinements = 0;
-    double                 time_step          = 1e-2;   ///< fixed step, or the maximum with CFL control
-    double                 cfl                = 0;      ///< > 0: dt = CFL h_min / |u|_max
-    double                 steady_tolerance   = 0;      ///< > 0: stop when |du/dt|/|u| < tol
-    std::vector<unsigned>  study_levels;                ///< refinement study (empty: single run)
-    NavierStokesParameters navier_stokes;
+    unsigned int               global_refinements = 0;
+    double                     time_step          = 1e-2; ///< fixed step, or the maximum with CFL control
+    double                     cfl                = 0;    ///< > 0: dt = CFL h_min / |u|_max
+    double                     steady_tolerance   = 0;    ///< > 0: stop when |du/dt|/|u| < tol
+    double                     checkpoint_interval = 0;   ///< > 0: checkpoint every this many seconds
+    std::string                restart_file;              ///< checkpoint to continue from (empty: none)
+    NavierStokesParameters     navier_stokes;
+    MeshAdaptationParameters   adaptation;
+    ImmersedBoundaryParameters immersed_boundary;
 
     static void declare(dealii::ParameterHandler &prm);
     void        parse(dealii::ParameterHandler &prm);
@@ -33,7 +48,7 @@ namespace twinflow::fem
   /// What a run measured: final monitors, errors vs references and its cost.
   struct FemRunResult
   {
-    unsigned int                  cells = 0, steps = 0;
+    unsigned int                  cells = 0, steps = 0, adaptations = 0;
     unsigned long long            dofs  = 0;
     double                        wall_time = 0, final_time = 0;
     std::map<std::string, double> monitors;
@@ -41,9 +56,72 @@ namespace twinflow::fem
     std::vector<std::string>      active_physics;
   };
 
+  template <int dim>
+  class FemSimulation
+  {
+  public:
+    /// Composes the simulation (nothing is computed yet); runs on the ranks of @p comm.
+    FemSimulation(const Scene &scene, const FemParameters &parameters, const std::string &output_directory,
+                  MPI_Comm comm = MPI_COMM_WORLD);
+    ~FemSimulation();
+
+    /// Builds the mesh and the state (or loads the restart file) and runs to the end time.
+    FemRunResult run();
+
+    /// Mesh, initial refinement and initial state (run() calls it; tests may call it alone).
+    void setup();
+    /// One adaptation of the mesh to the registered interfaces, all fields transferred.
+    void adapt_mesh();
+    /// Writes a checkpoint (mesh + every field + scalars) under @p prefix.
+    void write_checkpoint(const std::string &prefix);
+
+    const NavierStokes<dim>                               &flow() const { return *navier_stokes; }
+    NavierStokes<dim>                                     &flow() { return *navier_stokes; }
+    const dealii::parallel::distributed::Triangulation<dim> &mesh() const { return tria; }
+    const ImmersedBoundary<dim>                           *immersed_boundary() const { return ibm.get(); }
+    const MeshAdaptation<dim>                             *mesh_adaptation() const { return adaptation.get(); }
+    const std::vector<std::string>                        &active_physics() const { return result.active_physics; }
+
+  private:
+    void compose();
+    void make_coarse_mesh();
+    void set_boundary_conditions();
+    void refine_initial_mesh();
+    void load_checkpoint(const std::string &prefix);
+    double next_time_step() const;
+    void open_monitors();
+    void record(double dt, double divergence);
+    void write_output();
+    void write_summary();
+
+    const Scene                                         scene;
+    const FemParameters                                 prm;
+    const std::string                                   dir;
+    MPI_Comm                                            comm;
+    dealii::parallel::distributed::Triangulation<dim>   tria;
+    std::array<dealii::types::boundary_id, 6>           face_id{{0, 1, 2, 3, 4, 5}};
+    dealii::types::boundary_id                          body_id;
+    bool                                                body_fitted = false;
+    std::unique_ptr<MaterialModel<dim>>                 material;
+    std::unique_ptr<NavierStokes<dim>>                  navier_stokes;
+    std::unique_ptr<ImmersedBoundary<dim>>              ibm;
+    std::unique_ptr<MeshAdaptation<dim>>                adaptation;
+    std::vector<FieldPhysics<dim> *>                    physics;
+    std::shared_ptr<dealii::Function<dim>>              inflow;
+
+    std::unique_ptr<io::CsvMonitor> forces_csv, probes_csv, energy_csv;
+    std::unique_ptr<io::PvdSeries>  pvd;
+    unsigned int                    output_count = 0;
+    double                          next_output = 0, next_checkpoint = 0, coefficient_scale = 0;
+    FemRunResult                    result;
+  };
+
   /// Runs @p scene with the FEM on MPI_COMM_WORLD, writing into @p output_directory.
   template <int dim>
-  FemRunResult run_fem(const Scene &scene, const FemParameters &parameters, const std::string &output_directory);
+  FemRunResult run_fem(const Scene &scene, const FemParameters &parameters, const std::string &output_directory)
+  {
+    return FemSimulation<dim>(scene, parameters, output_directory).run();
+  }
 
   /// Same with the dimension taken from the scene.
   FemRunResult run_fem_scene(const Scene &scene, const FemParameters &parameters, const std::string &output_directory);

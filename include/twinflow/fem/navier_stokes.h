@@ -13,12 +13,15 @@
  * Taylor–Hood Q_{k+1}/Q_k on a parallel::distributed::Triangulation, Trilinos vectors,
  * AMG-preconditioned GMRES (velocity) and CG (pressure increment).
  */
+#include <twinflow/fem/field_physics.h>
 #include <twinflow/fem/material_model.h>
+#include <twinflow/fem/momentum_term.h>
 
 #include <deal.II/base/conditional_ostream.h>
 #include <deal.II/base/function.h>
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/timer.h>
+#include <deal.II/distributed/solution_transfer.h>
 #include <deal.II/distributed/tria.h>
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/fe/fe_q.h>
@@ -26,13 +29,14 @@
 #include <deal.II/fe/mapping_q.h>
 #include <deal.II/lac/affine_constraints.h>
 #include <deal.II/lac/trilinos_precondition.h>
-#include <string>
 #include <deal.II/lac/trilinos_sparse_matrix.h>
 #include <deal.II/lac/trilinos_vector.h>
 #include <deal.II/numerics/data_out.h>
 
 #include <map>
 #include <memory>
+#include <string>
+#include <vector>
 
 namespace twinflow::fem
 {
@@ -64,7 +68,7 @@ namespace twinflow::fem
   };
 
   template <int dim>
-  class NavierStokes
+  class NavierStokes : public FieldPhysics<dim>
   {
   public:
     NavierStokes(dealii::parallel::distributed::Triangulation<dim> &tria,
@@ -83,8 +87,24 @@ namespace twinflow::fem
     /// Force density f(x,t) (per unit volume, not multiplied by ρ).
     void set_force_density(std::shared_ptr<dealii::Function<dim>> f);
 
-    /// Distribute DoFs, build constraints, sparsity, the pressure Laplacian and its AMG.
-    void setup();
+    /// Extra terms of the velocity step (IBM, ...): see momentum_term.h. Register before
+    /// the first step; the term must outlive the solver.
+    void add_momentum_term(const MomentumTerm<dim> &term) { momentum_terms.push_back(&term); }
+
+    // ---- FieldPhysics life cycle ----------------------------------------------------------
+    std::string name() const override { return "navier-stokes"; }
+    /// Distribute DoFs, build constraints, sparsity, the pressure Laplacian and its AMG on the
+    /// current mesh; (re)size the state vectors. Called again after every adaptation.
+    void setup_dofs() override;
+    /// Same as setup_dofs() (kept for the verification tests).
+    void setup() { setup_dofs(); }
+    /// u^n, u^{n-1} and p^n, φ^n, φ^{n-1} go through parallel::distributed::SolutionTransfer.
+    void prepare_transfer(bool serialization) override;
+    void finish_transfer(bool serialization) override;
+    void advance(double dt) override { step(dt); }
+    void save_state(std::ostream &out) const override;
+    void load_state(std::istream &in) override;
+    dealii::types::global_dof_index n_dofs() const override { return n_velocity_dofs() + n_pressure_dofs(); }
 
     /// Initial state at @p t0. If @p u_previous is given (the velocity at t0 − dt_previous),
     /// BDF2 starts with a second-order step; otherwise the first step is BDF1.
@@ -98,6 +118,7 @@ namespace twinflow::fem
     const StepStatistics &step(double dt);
 
     double       time() const { return current_time; }
+    const StepStatistics &statistics() const { return stats; }
     unsigned int n_steps() const { return step_number; }
 
     /// Hydrodynamic force on boundary @p id, evaluated consistently as minus the residual
@@ -112,7 +133,7 @@ namespace twinflow::fem
     double kinetic_energy() const;  ///< ½∫ρ|u|²
     double minimal_cell_diameter() const;
 
-    void add_to_output(dealii::DataOut<dim> &data_out) const;
+    void add_to_output(dealii::DataOut<dim> &data_out) const override;
 
     dealii::types::global_dof_index n_velocity_dofs() const { return velocity_dofs.n_dofs(); }
     dealii::types::global_dof_index n_pressure_dofs() const { return pressure_dofs.n_dofs(); }
@@ -122,6 +143,9 @@ namespace twinflow::fem
     const dealii::TrilinosWrappers::MPI::Vector &pressure() const { return p_n; }
     const dealii::Mapping<dim> &get_mapping() const { return mapping; }
     const dealii::TimerOutput &timer() const { return timer_output; }
+    /// Viscous stress form of the momentum equation: true for 2με(u), false for μ∇u.
+    bool symmetric_stress() const { return prm.viscous_form == ViscousForm::symmetric; }
+    const MaterialModel<dim> &material_model() const { return material; }
 
   private:
     struct BdfCoefficients
@@ -133,6 +157,10 @@ namespace twinflow::fem
 
     void make_velocity_constraints(double t);
     void make_pressure_constraints();
+    /// Hanging-node and periodicity constraints only (to fix transferred fields).
+    void make_mesh_constraints(const dealii::DoFHandler<dim> &dofs, const dealii::IndexSet &relevant,
+                               dealii::AffineConstraints<double> &c) const;
+    void assemble_pressure_laplacian();
     void assemble_velocity_system(double dt, const BdfCoefficients &c);
     unsigned int solve_velocity();
     unsigned int solve_pressure_increment(double dt, const BdfCoefficients &c);
@@ -170,6 +198,12 @@ namespace twinflow::fem
 
     /// DoFs on each boundary whose force is asked for (found once per mesh, not per step).
     mutable std::map<dealii::types::boundary_id, dealii::IndexSet> force_dofs;
+
+    std::vector<const MomentumTerm<dim> *> momentum_terms;
+
+    using Transfer = dealii::parallel::distributed::SolutionTransfer<dim, dealii::TrilinosWrappers::MPI::Vector>;
+    std::unique_ptr<Transfer> velocity_transfer, pressure_transfer;
+    bool                      rebuild_velocity_preconditioner = true;
 
     StepStatistics           stats;
     dealii::ConditionalOStream  silent_stream{std::cout, false};

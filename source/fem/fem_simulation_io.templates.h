@@ -1,0 +1,227 @@
+// FemSimulation<dim>: monitors, output, checkpoints and the run summary.
+#pragma once
+#include <twinflow/core/errors.h>
+#include <twinflow/fem/fem_simulation.h>
+#include <twinflow/io/csv_monitor.h>
+#include <twinflow/io/mpi_utils.h>
+#include <twinflow/io/pvd_series.h>
+#include <twinflow/io/summary.h>
+
+#include <deal.II/numerics/data_out.h>
+
+#include <fstream>
+#include <optional>
+#include <sstream>
+
+namespace twinflow::fem
+{
+  using namespace dealii;
+
+  template <int dim>
+  void FemSimulation<dim>::open_monitors()
+  {
+    io::ensure_directory(dir);
+    const Fluid &fluid = scene.fluids.front();
+    const double area  = scene.reference_length * (dim == 3 ? scene.domain.upper[2] - scene.domain.lower[2] : 1.0);
+    coefficient_scale  = 2.0 / (fluid.density * scene.reference_velocity * scene.reference_velocity * area);
+    if (scene.monitors_contain("forces") && (body_id != numbers::invalid_boundary_id || ibm))
+    {
+      std::vector<std::string> cols{"time", "Fx", "Fy"}, units{"s", "N", "N"};
+      if (dim == 3) { cols.push_back("Fz"); units.push_back("N"); }
+      cols.insert(cols.end(), {"C_d", "C_l", "torque z"});
+      units.insert(units.end(), {"-", "-", "N m"});
+      forces_csv = std::make_unique<io::CsvMonitor>(dir + "/forces.csv", cols, units, comm, "forces");
+    }
+    if (scene.monitors_contain("pressure probes"))
+    {
+      std::vector<std::string> cols{"time"}, units{"s"};
+      for (unsigned int k = 0; k < scene.pressure_probes.size(); ++k)
+      {
+        cols.push_back("p" + std::to_string(k + 1));
+        units.push_back("Pa");
+      }
+      if (scene.pressure_probes.size() >= 2) { cols.push_back("dp"); units.push_back("Pa"); }
+      probes_csv = std::make_unique<io::CsvMonitor>(dir + "/pressure_probes.csv", cols, units, comm, "pressure probes");
+    }
+    if (scene.monitors_contain("energy"))
+      energy_csv = std::make_unique<io::CsvMonitor>(dir + "/energy.csv",
+                                                    std::vector<std::string>{"time", "kinetic energy", "divergence L2", "dt", "cells"},
+                                                    std::vector<std::string>{"s", "J", "1/s", "s", "-"}, comm, "energy");
+    pvd = std::make_unique<io::PvdSeries>(dir, "solution", comm);
+  }
+
+  template <int dim>
+  void FemSimulation<dim>::record(const double dt, const double divergence)
+  {
+    const NavierStokes<dim> &ns = *navier_stokes;
+    const double             t  = ns.time();
+    if (forces_csv)
+    {
+      Tensor<1, dim> F;
+      double         torque = 0;
+      if (ibm)
+      {
+        const auto loads = ibm->loads(ns);
+        F      = loads.front().force;
+        torque = loads.front().torque[2];
+      }
+      else
+        F = ns.boundary_force(body_id);
+      std::vector<double> row{t};
+      for (unsigned int d = 0; d < dim; ++d)
+        row.push_back(F[d]);
+      row.push_back(coefficient_scale * F[0]);
+      row.push_back(coefficient_scale * F[1]);
+      row.push_back(torque);
+      forces_csv->append(row);
+      result.monitors["C_d"] = coefficient_scale * F[0];
+      result.monitors["C_l"] = coefficient_scale * F[1];
+    }
+    if (probes_csv)
+    {
+      std::vector<double> row{t};
+      for (const auto &x : scene.pressure_probes)
+      {
+        Point<dim> p;
+        for (unsigned int d = 0; d < dim; ++d)
+          p[d] = x[d];
+        row.push_back(ns.pressure_at(p));
+        result.monitors["p" + std::to_string(row.size() - 1)] = row.back();
+      }
+      if (scene.pressure_probes.size() >= 2)
+      {
+        row.push_back(row[1] - row[2]);
+        result.monitors["dp"] = row.back();
+      }
+      probes_csv->append(row);
+    }
+    if (energy_csv)
+    {
+      const double e = ns.kinetic_energy();
+      energy_csv->append({t, e, divergence, dt, double(tria.n_global_active_cells())});
+      result.monitors["kinetic energy"] = e;
+    }
+  }
+
+  template <int dim>
+  void FemSimulation<dim>::write_output()
+  {
+    DataOut<dim> data_out;
+    data_out.attach_triangulation(tria);
+    for (const auto *p : physics)
+      p->add_to_output(data_out);
+    Vector<float> subdomain(tria.n_active_cells()), level(tria.n_active_cells()), solid(tria.n_active_cells());
+    for (const auto &cell : tria.active_cell_iterators())
+      if (cell->is_locally_owned())
+      {
+        const auto i = cell->active_cell_index();
+        subdomain(i) = tria.locally_owned_subdomain();
+        level(i)     = cell->level();
+        if (ibm)
+        {
+          double phi = 1e300;
+          for (const auto &s : ibm->solids())
+            phi = std::min(phi, s->distance(cell->center()));
+          solid(i) = phi;
+        }
+      }
+    data_out.add_data_vector(subdomain, "subdomain");
+    data_out.add_data_vector(level, "level");
+    if (ibm)
+      data_out.add_data_vector(solid, "solid_distance");
+    data_out.build_patches(navier_stokes->get_mapping(), prm.navier_stokes.velocity_degree,
+                           DataOut<dim>::curved_inner_cells);
+    const std::string name = data_out.write_vtu_with_pvtu_record(dir + "/", "solution", output_count++, comm, 4);
+    pvd->add(navier_stokes->time(), name);
+  }
+
+  template <int dim>
+  void FemSimulation<dim>::write_checkpoint(const std::string &prefix)
+  {
+    for (auto *p : physics)
+      p->prepare_transfer(true);
+    tria.save(prefix + ".mesh");
+    if (io::is_root_process(comm))
+    {
+      std::ofstream meta(prefix + ".meta");
+      meta.precision(17);
+      meta << "twinflow-fem-checkpoint 1 " << dim << ' ' << tria.n_global_active_cells() << '\n';
+      for (const auto *p : physics)
+        p->save_state(meta);
+      meta << "outputs " << output_count << ' ' << next_output << '\n';
+      if (!meta)
+        throw std::runtime_error("cannot write the checkpoint metadata " + prefix + ".meta");
+    }
+    MPI_Barrier(comm);
+  }
+
+  template <int dim>
+  void FemSimulation<dim>::load_checkpoint(const std::string &prefix)
+  {
+    std::ifstream meta(prefix + ".meta");
+    if (!meta || !std::ifstream(prefix + ".mesh"))
+      throw InputError("FEM/Restart file = '" + prefix + "': cannot open " + prefix + ".meta and " + prefix +
+                       ".mesh (write them with FEM/Checkpoint interval > 0; give the prefix without extension)");
+    std::string tag;
+    int         version = 0, file_dim = 0;
+    unsigned long long cells = 0;
+    meta >> tag >> version >> file_dim >> cells;
+    if (tag != "twinflow-fem-checkpoint" || version != 1 || file_dim != dim)
+      throw InputError("FEM/Restart file = '" + prefix + "': not a " + std::to_string(dim) +
+                       "D twinflow FEM checkpoint (version 1)");
+    tria.load(prefix + ".mesh");
+    if (tria.n_global_active_cells() != cells)
+      throw InputError("FEM/Restart file = '" + prefix + "': the mesh does not match its metadata");
+    for (auto *p : physics)
+    {
+      p->setup_dofs();
+      p->finish_transfer(true);
+      p->load_state(meta);
+    }
+    meta >> tag >> output_count >> next_output;
+    if (!meta || tag != "outputs")
+      throw InputError("FEM/Restart file = '" + prefix + "': the metadata is truncated");
+    if (adaptation)
+      adaptation->mark_adapted();
+  }
+
+  template <int dim>
+  void FemSimulation<dim>::write_summary()
+  {
+    const NavierStokes<dim> &ns = *navier_stokes;
+    if (ibm)
+    {
+      const auto [inside, surface] = ibm->slip_errors(ns);
+      result.monitors["solid velocity L2"] = inside;
+      result.monitors["surface slip L2"]   = surface;
+    }
+    io::RunSummary summary(comm);
+    summary.set_method("fem");
+    summary.set_dimension(dim);
+    summary.set_scene(scene.name);
+    summary.set_cells(result.cells);
+    summary.set_dofs("velocity", ns.n_velocity_dofs());
+    summary.set_dofs("pressure", ns.n_pressure_dofs());
+    summary.set_steps(result.steps);
+    summary.set_final_time(result.final_time);
+    summary.set_wall_time(result.wall_time);
+    summary.set_timer_sections(ns.timer());
+    summary.set_monitor_values(result.monitors);
+    summary.set_extra("active physics", internal::join(result.active_physics, "; "));
+    summary.set_extra("mpi ranks", Utilities::MPI::n_mpi_processes(comm));
+    summary.set_extra("mesh adaptations", result.adaptations);
+    summary.set_extra("time per step [s]", result.wall_time / std::max(1u, result.steps));
+    auto compare = [&](const char *name, const char *key, const std::optional<double> &ref) {
+      if (ref && result.monitors.count(key))
+      {
+        summary.add_error(name, result.monitors[key], *ref);
+        result.relative_errors[key] = std::abs(result.monitors[key] - *ref) / std::abs(*ref);
+      }
+    };
+    compare("drag coefficient C_d", "C_d", scene.reference_drag);
+    compare("lift coefficient C_l", "C_l", scene.reference_lift);
+    compare("pressure difference", "dp", scene.reference_pressure_difference);
+    summary.write_json(dir + "/summary.json");
+    summary.print_table(std::cout);
+  }
+} // namespace twinflow::fem
