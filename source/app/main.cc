@@ -2,7 +2,6 @@
 #include <twinflow/core/errors.h>
 #include <twinflow/core/scene.h>
 #include <twinflow/fem/fem_simulation.h>
-#include <twinflow/io/csv_monitor.h>
 #include <twinflow/io/mpi_utils.h>
 #include <twinflow/io/plots.h>
 #include <twinflow/sph/sph_simulation.h>
@@ -14,6 +13,8 @@
 #include <algorithm>
 #include <fstream>
 #include <iostream>
+#include <map>
+#include <set>
 #include <sstream>
 
 namespace
@@ -21,12 +22,23 @@ namespace
   const char *usage = R"(twinflow — free-surface and fluid-solid flow, Eulerian (FEM) and Lagrangian (SPH)
 
 usage:
-  twinflow SCENE.prm [-o OUTPUT_DIR]   run a scene (mpirun -np N twinflow ... distributes the FEM)
+  twinflow SCENE.prm [--set 'Subsection/Entry=value' ...] [-o OUTPUT_DIR] [--check]
+                                       run a scene (mpirun -np N twinflow ... distributes the FEM)
   twinflow --print-parameters          print every parameter with its documentation and default
   twinflow --help                      this text
 
+  --set 'A/B/Entry=value'   override an entry of the scene file after it is read, e.g.
+                            --set 'FEM/Global refinements=3' or --set 'Scene/End time=0.5';
+                            the path names the subsections, the last part is the entry
+                            (top-level entries have no '/'). Checked like the file: an
+                            unknown subsection or entry, or a value outside the entry's
+                            pattern, is an input error. Several --set are applied in order.
+  -o OUTPUT_DIR             write the results there instead of Scene/Output directory
+  --check                   read the scene and the overrides, check them, run nothing
+
 Results go to the scene's 'Output directory' (or OUTPUT_DIR): one folder per method with
-ParaView files, CSV monitors, summary.json and PNG plots.
+ParaView files, CSV monitors, summary.json and PNG plots. Studies (sweeps of any entries,
+one folder per case, a table and error-against-cost plots): scripts/study.py --help.
 )";
 
   void declare_all(dealii::ParameterHandler &prm)
@@ -47,7 +59,165 @@ ParaView files, CSV monitors, summary.json and PNG plots.
     return m.erase(0, std::min(m.find_first_not_of(" \n"), m.size()));
   }
 
-  int run(const std::string &file, const std::string &output_override)
+  std::string trim(const std::string &s)
+  {
+    const auto b = s.find_first_not_of(" \t\r\n");
+    if (b == std::string::npos)
+      return "";
+    return s.substr(b, s.find_last_not_of(" \t\r\n") - b + 1);
+  }
+
+  std::string join(const std::set<std::string> &names)
+  {
+    std::string r;
+    for (const auto &n : names)
+      r += (r.empty() ? "" : ", ") + n;
+    return r.empty() ? "(none)" : r;
+  }
+
+  /// One command-line override `--set 'Sub/Sub/Entry=value'`.
+  struct Override
+  {
+    std::string              text;  ///< as given
+    std::vector<std::string> path;  ///< subsections, outermost first
+    std::string              entry;
+    std::string              value;
+
+    std::string full_name() const
+    {
+      std::string r;
+      for (const auto &p : path)
+        r += p + "/";
+      return r + entry;
+    }
+  };
+
+  /// Splits `A/B/Entry = value` (whitespace around '=', '/' and the ends trimmed).
+  Override parse_override(const std::string &text)
+  {
+    Override o;
+    o.text = text;
+    const std::string prefix = "--set '" + text + "': ";
+    const auto eq = text.find('=');
+    if (eq == std::string::npos)
+      throw twinflow::InputError(prefix + "expected 'Subsection/.../Entry=value' (no '=' found), "
+                                          "e.g. --set 'FEM/Global refinements=3'");
+    o.value = trim(text.substr(eq + 1));
+    std::vector<std::string> parts;
+    std::string key = text.substr(0, eq);
+    for (std::size_t begin = 0;;)
+    {
+      const auto slash = key.find('/', begin);
+      parts.push_back(trim(key.substr(begin, slash == std::string::npos ? std::string::npos : slash - begin)));
+      if (slash == std::string::npos)
+        break;
+      begin = slash + 1;
+    }
+    for (const auto &p : parts)
+      if (p.empty())
+        throw twinflow::InputError(prefix + "empty " + (&p == &parts.back() ? "entry" : "subsection") +
+                                   " name in '" + trim(key) +
+                                   "'; expected 'Subsection/.../Entry=value', e.g. --set 'FEM/Global refinements=3'");
+    o.entry = parts.back();
+    parts.pop_back();
+    o.path = parts;
+    return o;
+  }
+
+  /// The declared subsections and entries, by subsection path ("" is the top level, "FEM/Navier-Stokes"
+  /// a nested one), read from the parameter handler's own listing.
+  struct Catalog
+  {
+    std::map<std::string, std::set<std::string>> subsections, entries;
+
+    explicit Catalog(const dealii::ParameterHandler &prm)
+    {
+      std::ostringstream listing;
+      prm.print_parameters(listing, dealii::ParameterHandler::ShortPRM);
+      std::istringstream in(listing.str());
+      std::vector<std::string> stack;
+      const auto joined = [&stack]() {
+        std::string r;
+        for (const auto &s : stack)
+          r += (r.empty() ? "" : "/") + s;
+        return r;
+      };
+      subsections[""];
+      entries[""];
+      for (std::string line; std::getline(in, line);)
+      {
+        line = trim(line);
+        if (line.rfind("subsection ", 0) == 0)
+        {
+          const std::string name = trim(line.substr(11));
+          subsections[joined()].insert(name);
+          stack.push_back(name);
+          subsections[joined()];
+          entries[joined()];
+        }
+        else if (line == "end" && !stack.empty())
+          stack.pop_back();
+        else if (line.rfind("set ", 0) == 0 && line.find('=') != std::string::npos)
+          entries[joined()].insert(trim(line.substr(4, line.find('=') - 4)));
+      }
+    }
+  };
+
+  /// Applies @p o to @p prm with the checks of the file parser: the subsections and the entry must be
+  /// declared, and the value must match the entry's pattern.
+  void apply_override(dealii::ParameterHandler &prm, const Override &o, const Catalog &catalog)
+  {
+    using twinflow::InputError;
+    const std::string prefix = "--set '" + o.text + "': ";
+    const auto where = [](const std::string &path) {
+      return path.empty() ? std::string("at the top level") : "in subsection '" + path + "'";
+    };
+    std::string path;
+    for (const auto &sub : o.path)
+    {
+      const auto &allowed = catalog.subsections.at(path);
+      if (!allowed.count(sub))
+        throw InputError(prefix + "no subsection '" + sub + "' " + where(path) + "; allowed subsections: " +
+                         join(allowed) + "\n(twinflow --print-parameters lists every subsection and entry "
+                                         "with its allowed values)");
+      path += (path.empty() ? "" : "/") + sub;
+    }
+    const auto &entries = catalog.entries.at(path);
+    if (!entries.count(o.entry))
+    {
+      std::string msg = prefix + "no entry '" + o.entry + "' " + where(path) + "; allowed entries: " + join(entries);
+      if (!catalog.subsections.at(path).empty())
+        msg += "; subsections: " + join(catalog.subsections.at(path));
+      throw InputError(msg + "\n(twinflow --print-parameters lists every subsection and entry with its allowed values)");
+    }
+    for (const auto &sub : o.path)
+      prm.enter_subsection(sub);
+    std::string error;
+    try
+    {
+      prm.set(o.entry, o.value);
+    }
+    catch (const dealii::ExceptionBase &e)
+    {
+      error = message_of(e);
+    }
+    for (std::size_t i = 0; i < o.path.size(); ++i)
+      prm.leave_subsection();
+    if (!error.empty())
+    {
+      // deal.II: "The string <v> does not match the given pattern <P>." -> P
+      const std::string key = "pattern <";
+      const auto        b   = error.find(key);
+      const auto        e   = error.rfind('>');
+      const std::string pattern =
+        b != std::string::npos && e != std::string::npos && e > b ? error.substr(b + key.size(), e - b - key.size()) : error;
+      throw InputError(prefix + "the value '" + o.value + "' for the entry '" + o.full_name() +
+                       "' does not match its pattern; allowed: " + pattern);
+    }
+  }
+
+  int run(const std::string &file, const std::vector<Override> &overrides, const std::string &output_override,
+          const bool check_only)
   {
     using namespace twinflow;
     dealii::ParameterHandler prm;
@@ -66,6 +236,12 @@ ParaView files, CSV monitors, summary.json and PNG plots.
       throw InputError("in scene file '" + file + "': " + message_of(e) +
                        "\n(twinflow --print-parameters lists every subsection and entry with its allowed values)");
     }
+    if (!overrides.empty())
+    {
+      const Catalog catalog(prm);
+      for (const auto &o : overrides)
+        apply_override(prm, o, catalog);
+    }
     Scene scene = parse_scene(prm, file);
     fem::FemParameters fem_prm;
     fem_prm.parse(prm);
@@ -76,7 +252,17 @@ ParaView files, CSV monitors, summary.json and PNG plots.
 
     const bool root = io::is_root_process(MPI_COMM_WORLD);
     if (root)
+    {
       std::cout << "twinflow: scene '" << scene.name << "' (" << scene.dimension << "D) from " << file << std::endl;
+      for (const auto &o : overrides)
+        std::cout << "  --set " << o.full_name() << " = " << o.value << std::endl;
+    }
+    if (check_only)
+    {
+      if (root)
+        std::cout << "twinflow: input ok (--check: nothing run)" << std::endl;
+      return 0;
+    }
     const std::string dir = scene.output_directory + "/fem";
     if (scene.wants(Method::sph))
     {
@@ -88,45 +274,11 @@ ParaView files, CSV monitors, summary.json and PNG plots.
         return 0;
       }
     }
-    if (fem_prm.study_levels.empty())
-    {
-      fem::run_fem_scene(scene, fem_prm, dir);
-      if (scene.wants(Method::sph))
-        io::make_monitor_plots({dir, scene.output_directory + "/sph"});
-      else
-        io::make_plots(dir);
-      return 0;
-    }
-    // Refinement study: each level in its own folder, one table of cost and accuracy.
-    io::ensure_directory(dir);
-    std::vector<std::string> cols{"level", "cells", "dofs", "steps", "wall time"}, units{"-", "-", "-", "-", "s"};
-    for (const char *k : {"C_d", "C_l", "dp"})
-    {
-      cols.push_back(k);
-      units.push_back("-");
-      cols.push_back(std::string("error ") + k);
-      units.push_back("-");
-    }
-    io::CsvMonitor table(dir + "/refinement_study.csv", cols, units, MPI_COMM_WORLD, "refinement study");
-    for (const unsigned int level : fem_prm.study_levels)
-    {
-      fem_prm.global_refinements = level;
-      const auto r = fem::run_fem_scene(scene, fem_prm, dir + "/level_" + std::to_string(level));
-      std::vector<double> row{double(level), double(r.cells), double(r.dofs), double(r.steps), r.wall_time};
-      for (const char *k : {"C_d", "C_l", "dp"})
-      {
-        row.push_back(r.monitors.count(k) ? r.monitors.at(k) : std::nan(""));
-        row.push_back(r.relative_errors.count(k) ? r.relative_errors.at(k) : std::nan(""));
-      }
-      table.append(row);
-    }
-    if (root)
-    {
-      const std::string cmd = "/usr/bin/python3 " + io::shell_quote(std::string(TWINFLOW_SOURCE_DIR) + "/scripts/plot_study.py") +
-                              " " + io::shell_quote(dir + "/refinement_study.csv");
-      if (std::system(cmd.c_str()) != 0)
-        std::cerr << "warning: could not plot the refinement study (python3 + matplotlib needed)" << std::endl;
-    }
+    fem::run_fem_scene(scene, fem_prm, dir);
+    if (scene.wants(Method::sph))
+      io::make_monitor_plots({dir, scene.output_directory + "/sph"});
+    else
+      io::make_plots(dir);
     return 0;
   }
 } // namespace
@@ -137,6 +289,8 @@ int main(int argc, char **argv)
   const bool root = twinflow::io::is_root_process(MPI_COMM_WORLD);
   std::vector<std::string> args(argv + 1, argv + argc);
   std::string file, output;
+  std::vector<std::string> sets;
+  bool check_only = false;
   for (std::size_t i = 0; i < args.size(); ++i)
   {
     if (args[i] == "--help" || args[i] == "-h")
@@ -151,11 +305,28 @@ int main(int argc, char **argv)
       if (root) prm.print_parameters(std::cout, dealii::ParameterHandler::PRM);
       return 0;
     }
-    if (args[i] == "-o" && i + 1 < args.size())
+    if ((args[i] == "-o" || args[i] == "--set") && i + 1 == args.size())
+    {
+      if (root) std::cerr << "twinflow: input error: option '" << args[i] << "' needs an argument\n" << usage;
+      return 1;
+    }
+    if (args[i] == "-o")
       output = args[++i];
+    else if (args[i] == "--set")
+      sets.push_back(args[++i]);
+    else if (args[i].rfind("--set=", 0) == 0)
+      sets.push_back(args[i].substr(6));
+    else if (args[i] == "--check")
+      check_only = true;
     else if (!args[i].empty() && args[i][0] == '-')
     {
       if (root) std::cerr << "twinflow: unknown option '" << args[i] << "'\n" << usage;
+      return 1;
+    }
+    else if (!file.empty())
+    {
+      if (root) std::cerr << "twinflow: input error: two scene files given ('" << file << "', '" << args[i]
+                          << "'); run one scene at a time\n";
       return 1;
     }
     else
@@ -168,7 +339,10 @@ int main(int argc, char **argv)
   }
   try
   {
-    return run(file, output);
+    std::vector<Override> overrides;
+    for (const auto &text : sets)
+      overrides.push_back(parse_override(text));
+    return run(file, overrides, output, check_only);
   }
   catch (const twinflow::InputError &e)
   {

@@ -1,8 +1,9 @@
 # Runs twinflow on a bad scene file and checks that it fails cleanly:
 #   cmake -DTWINFLOW=<exe> -DPRM=<scene.prm> -DEXPECT=<regex> -DWORKDIR=<dir>
-#         [-DPREFIX=<regex>] -P check_bad_input.cmake
+#         [-DPREFIX=<regex>] [-DSET=<override>] -P check_bad_input.cmake
 # Before the run, WORKDIR/out/fem/previous_result.csv is written with a marker (the results
-# of an earlier run). twinflow is then run as `TWINFLOW PRM -o WORKDIR/out` from WORKDIR and
+# of an earlier run). twinflow is then run as `TWINFLOW PRM -o WORKDIR/out` (with
+# `--set SET` added when SET is given: a bad command-line override) from WORKDIR and
 #  - its exit code must be a non-zero number (not a crash by signal),
 #  - stderr must match PREFIX (default: the input-error prefix) and EXPECT: the message names
 #    the entry and states what is allowed,
@@ -26,15 +27,21 @@ file(WRITE "${_marker_file}" "${_marker}")
 file(GLOB_RECURSE _before LIST_DIRECTORIES true RELATIVE "${WORKDIR}" "${WORKDIR}/*")
 list(SORT _before)
 
+set(_command "${TWINFLOW}" "${PRM}" -o "${WORKDIR}/out")
+set(_shown "${TWINFLOW} ${PRM} -o ${WORKDIR}/out")
+if(DEFINED SET)
+  list(APPEND _command --set "${SET}")
+  string(APPEND _shown " --set '${SET}'")
+endif()
 execute_process(
-  COMMAND "${TWINFLOW}" "${PRM}" -o "${WORKDIR}/out"
+  COMMAND ${_command}
   WORKING_DIRECTORY "${WORKDIR}"
   RESULT_VARIABLE _rc
   OUTPUT_VARIABLE _out
   ERROR_VARIABLE _err
   TIMEOUT 100)
 
-set(_report "command: ${TWINFLOW} ${PRM} -o ${WORKDIR}/out\nexit code: ${_rc}\n--- stdout ---\n${_out}\n--- stderr ---\n${_err}\n---")
+set(_report "command: ${_shown}\nexit code: ${_rc}\n--- stdout ---\n${_out}\n--- stderr ---\n${_err}\n---")
 
 if(NOT _rc MATCHES "^[0-9]+$")
   message(FATAL_ERROR "twinflow did not exit normally (crash, signal or timeout) on a bad input.\n${_report}")

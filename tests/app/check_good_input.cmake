@@ -1,7 +1,9 @@
 # Runs twinflow and checks that it succeeds. Two forms:
 #   cmake -DTWINFLOW=<exe> -DPRM=<scene.prm> -DWORKDIR=<dir> -P check_good_input.cmake
 #     runs the scene with `-o WORKDIR/out` (from WORKDIR) and requires exit code 0 and a
-#     non-empty WORKDIR/out/fem/summary.json;
+#     non-empty WORKDIR/out/fem/summary.json; -DSET=<override> [-DSET2=<override>] add
+#     `--set SET --set SET2`, and the summary must match every one of the optional regexes
+#     SUMMARY_EXPECT, SUMMARY_EXPECT2;
 #   cmake -DTWINFLOW=<exe> -DARGS=<option> -DWORKDIR=<dir> -P check_good_input.cmake
 #     runs `TWINFLOW ARGS` (e.g. --help) and requires exit code 0.
 # In both forms stdout must match every one of the optional regexes EXPECT, EXPECT2, ...,
@@ -13,6 +15,11 @@ foreach(_var TWINFLOW WORKDIR)
 endforeach()
 if(DEFINED PRM AND NOT PRM STREQUAL "")
   set(_command "${TWINFLOW}" "${PRM}" -o "${WORKDIR}/out")
+  foreach(_var SET SET2)
+    if(DEFINED ${_var})
+      list(APPEND _command --set "${${_var}}")
+    endif()
+  endforeach()
 elseif(DEFINED ARGS AND NOT ARGS STREQUAL "")
   set(_command "${TWINFLOW}" ${ARGS})
 else()
@@ -55,5 +62,14 @@ if(DEFINED PRM AND NOT PRM STREQUAL "")
   if(_size EQUAL 0)
     message(FATAL_ERROR "${_summary} is empty.\n${_report}")
   endif()
+  file(READ "${_summary}" _summary_text)
+  foreach(_var SUMMARY_EXPECT SUMMARY_EXPECT2)
+    if(DEFINED ${_var} AND NOT "${${_var}}" STREQUAL "")
+      string(REGEX MATCH "${${_var}}" _m "${_summary_text}")
+      if(_m STREQUAL "")
+        message(FATAL_ERROR "${_summary} does not match <${${_var}}>:\n${_summary_text}\n${_report}")
+      endif()
+    endif()
+  endforeach()
 endif()
 message(STATUS "ok: ${_shown}")
