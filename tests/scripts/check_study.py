@@ -1,75 +1,117 @@
 #!/usr/bin/env python3
-"""Checks a study CSV.
+"""Checks the table of a study (scripts/study.py: DIR/study.csv).
 
-usage: check_study.py refinement_study.csv
-         DFG 2D-1 refinement study (FEM): the drag error decreases from level to level and the
-         finest level meets C_d 0.5 %, C_l 5 %, dp 1 %.
-       check_study.py study.csv CHECK [CHECK ...]
-         SPH spacing x operator study (scripts/sph_study.py): every case must have run (status
-         ok), and each CHECK must hold:
-           OPS<=TOL         the error of every OPS case (consistent|standard) is <= TOL
-           OPS1<OPS2        at every spacing run with both, OPS1's error is below OPS2's
-           decreasing=OPS   OPS's error decreases as the spacing decreases
+usage: check_study.py study.csv [CHECK ...]
+
+Every case must have run (status ok) and every row must have its error; then each CHECK
+must hold. A CHECK is [QUANTITY:]RULE, QUANTITY an error quantity of the study or the
+unique beginning of one ('drag' for 'drag coefficient C_d'; default: the first error column).
+RULE is one of
+  SEL<=TOL          the error of every SEL row is <= TOL
+  SEL1<SEL2         SEL1's error is below SEL2's wherever both ran with the same other
+                    entries (e.g. consistent<standard at every spacing)
+  decreasing=SEL    the error of the SEL rows decreases as the size (DoFs, particles or
+                    cells) grows, for each method and each value of the other entries
+SEL is a value of a varied entry (e.g. consistent), a method (fem, sph), 'all', or 'finest'
+(the largest case of each method).
+Examples: check_study.py study.csv "consistent<=0.01" "consistent<standard"
+          check_study.py study.csv "drag:decreasing=all" "drag:finest<=0.005"
 """
+import csv
 import sys
 
-sys.path.insert(0, __file__.rsplit("/", 1)[0])
-from compare_csv import read  # noqa: E402
+
+def number(s):
+    try:
+        return float(s)
+    except (TypeError, ValueError):
+        return None
 
 
-OPERATORS = {0: "consistent", 1: "standard"}
+def main(argv):
+    if not argv:
+        print(__doc__)
+        return 2
+    with open(argv[0], newline="") as f:
+        reader = csv.DictReader(f)
+        header, rows = reader.fieldnames, list(reader)
+    varied = header[header.index("folder") + 1:header.index("method")]
+    errors = [h[len("error "):] for h in header if h.startswith("error ")]
+    if not errors:
+        print("FAIL: the study has no error column (does the scene have references?)")
+        return 1
 
+    def size(r):
+        for key in ("dofs", "particles", "cells"):
+            if number(r.get(key)) is not None:
+                return number(r[key])
+        return 0.0
 
-def check_sph(header, rows, checks):
-    col = {h.split(" [")[0]: i for i, h in enumerate(header)}
-    cases = {}
+    finest = {}
+    for r in rows:
+        if size(r) >= finest.get(r["method"], -1):
+            finest[r["method"]] = size(r)
+
+    def selected(r, sel):
+        if not r["method"]:
+            return False  # a case without a summary: reported above
+        return (sel == "all" or r["method"] == sel or any(r[e] == sel for e in varied) or
+                (sel == "finest" and size(r) == finest.get(r["method"])))
+
     ok = True
     for r in rows:
-        ops, dx = OPERATORS[int(r[col["operators"]])], r[col["spacing"]]
-        status = "ok" if r[col["status"]] == 0 else "DIVERGED/FAILED"
-        ok = ok and status == "ok"
-        cases.setdefault(ops, {})[dx] = r[col["relative error"]]
-        print("%-10s dx %-9g particles %6d steps %5d wall %7.1f s  error %.3e  %s" % (
-            ops, dx, r[col["particles"]] if r[col["particles"]] == r[col["particles"]] else -1,
-            r[col["steps"]] if r[col["steps"]] == r[col["steps"]] else -1, r[col["wall time"]],
-            r[col["relative error"]], status))
-    for check in checks:
-        if check.startswith("decreasing="):
-            ops = check.split("=", 1)[1]
-            errs = [cases.get(ops, {})[dx] for dx in sorted(cases.get(ops, {}), reverse=True)]
-            good = len(errs) >= 2 and all(b < a for a, b in zip(errs, errs[1:]))
-        elif "<=" in check:
-            ops, tol = check.split("<=")
-            good = bool(cases.get(ops)) and all(e <= float(tol) for e in cases[ops].values())
-        elif "<" in check:
-            a, b = check.split("<")
-            common = set(cases.get(a, {})) & set(cases.get(b, {}))
-            good = bool(common) and all(cases[a][dx] < cases[b][dx] for dx in common)
+        good = r["status"] == "ok" and all(number(r["error " + q]) is not None for q in errors[:1])
+        ok = ok and good
+        print(f"{'ok  ' if good else 'FAIL'} case {r['case']:>3} {r['method'] or '—':4s} " +
+              " ".join(f"{e.split('/')[-1]}={r[e]}" for e in varied) +
+              f"  size {size(r):g}  wall {r['wall time [s]'] or r['case wall time [s]']} s  " +
+              "  ".join(f"{q} {r['error ' + q] or '—'}" for q in errors) +
+              ("" if r["status"] == "ok" else f"  [{r['status']}: {r['message']}]"))
+
+    for check in argv[1:]:
+        quantity, rule = errors[0], check
+        if ":" in check:
+            name, rest = check.rsplit(":", 1)
+            match = [q for q in errors if q == name] or [q for q in errors if q.startswith(name)]
+            if len(match) != 1:
+                print(f"FAIL {check}: '{name}' names {'no' if not match else 'more than one'} error quantity "
+                      f"of the study; allowed: {', '.join(errors)} (or a unique beginning)")
+                return 2
+            quantity, rule = match[0], rest
+        col = "error " + quantity
+
+        def err(r):
+            return number(r[col])
+        if rule.startswith("decreasing="):
+            sel = rule.split("=", 1)[1]
+            groups = {}
+            for r in rows:
+                if selected(r, sel) and err(r) is not None:
+                    groups.setdefault((r["method"],) + tuple(r[e] for e in varied[1:]), []).append(r)
+            good = bool(groups) and all(len(g) >= 2 for g in groups.values())
+            for g in groups.values():
+                errs = [err(r) for r in sorted(g, key=size)]
+                good = good and all(b < a for a, b in zip(errs, errs[1:]))
+        elif "<=" in rule:
+            sel, tol = rule.split("<=", 1)
+            picked = [r for r in rows if selected(r, sel)]
+            good = bool(picked) and all(err(r) is not None and err(r) <= float(tol) for r in picked)
+        elif "<" in rule:
+            a, b = rule.split("<", 1)
+            column = next((e for e in varied if any(r[e] == a for r in rows)), "method")
+            others = [e for e in varied if e != column] + (["method"] if column != "method" else [])
+            index = {tuple(r[e] for e in others): r for r in rows if r[column] == b}
+            pairs = [(r, index.get(tuple(r[e] for e in others))) for r in rows if r[column] == a]
+            pairs = [(x, y) for x, y in pairs if y is not None and err(x) is not None and err(y) is not None]
+            good = bool(pairs) and all(err(x) < err(y) for x, y in pairs)
         else:
-            print(f"unknown check '{check}'; allowed: OPS<=TOL, OPS1<OPS2, decreasing=OPS")
+            print(f"unknown check '{check}'; allowed: [QUANTITY:]SEL<=TOL, SEL1<SEL2, decreasing=SEL")
             return 2
-        print(f"{'ok' if good else 'FAIL':5s} {check}")
+        print(f"{'ok  ' if good else 'FAIL'} {quantity}: {rule}")
         ok = ok and good
     print("OK" if ok else "FAIL")
     return 0 if ok else 1
 
 
-def main():
-    header, rows = read(sys.argv[1])
-    if any(h.startswith("operators") for h in header):
-        return check_sph(header, rows, sys.argv[2:])
-    col = {h.split(" [")[0]: i for i, h in enumerate(header)}
-    for r in rows:
-        print("level %d: cells %d dofs %d wall %.1f s  err C_d %.2e C_l %.2e dp %.2e" % (
-            r[col["level"]], r[col["cells"]], r[col["dofs"]], r[col["wall time"]],
-            r[col["error C_d"]], r[col["error C_l"]], r[col["error dp"]]))
-    drag = [r[col["error C_d"]] for r in rows]
-    ok = all(b < a for a, b in zip(drag, drag[1:]))
-    last = rows[-1]
-    ok = ok and last[col["error C_d"]] < 0.005 and last[col["error C_l"]] < 0.05 and last[col["error dp"]] < 0.01
-    print("OK" if ok else "FAIL")
-    return 0 if ok else 1
-
-
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(main(sys.argv[1:]))
