@@ -140,7 +140,7 @@ namespace twinflow::fem
     , prm(p)
     , dir(d)
     , comm(c)
-    , tria(comm, Triangulation<dim>::limit_level_difference_at_vertices)
+    , tria(comm)
     , body_id(numbers::invalid_boundary_id)
   {
     compose();
@@ -182,10 +182,10 @@ namespace twinflow::fem
     else
       idle.insert(idle.begin(), "immersed boundary");
     const bool interfaces = ibm != nullptr;
-    if (prm.adaptation.enabled() && (interfaces || prm.adaptation.kelly_fraction > 0))
+    if (prm.adaptation.enabled() && (interfaces || prm.adaptation.kelly_threshold > 0))
       active.push_back(std::string("mesh adaptation (levels ") + std::to_string(prm.adaptation.minimum_level) + "-" +
                        std::to_string(prm.adaptation.maximum_level) + (interfaces ? ", band at phi_s = 0" : "") +
-                       (prm.adaptation.kelly_fraction > 0 ? ", Kelly" : "") + ")");
+                       (prm.adaptation.kelly_threshold > 0 ? ", Kelly" : "") + ")");
     else
       idle.insert(idle.begin(), "mesh adaptation");
     for (unsigned int d = 0; d < dim; ++d)
@@ -286,7 +286,7 @@ namespace twinflow::fem
   {
     make_coarse_mesh();
     set_boundary_conditions();
-    if (prm.adaptation.enabled() && (ibm || prm.adaptation.kelly_fraction > 0))
+    if (prm.adaptation.enabled() && (ibm || prm.adaptation.kelly_threshold > 0))
     {
       adaptation = std::make_unique<MeshAdaptation<dim>>(tria, prm.adaptation);
       if (ibm)
@@ -317,7 +317,7 @@ namespace twinflow::fem
     if (!adaptation)
       return;
     std::unique_ptr<Vector<float>> indicator;
-    if (prm.adaptation.kelly_fraction > 0)
+    if (prm.adaptation.kelly_threshold > 0)
     {
       indicator = std::make_unique<Vector<float>>(tria.n_active_cells());
       const auto &dofs = navier_stokes->velocity_dof_handler();
@@ -385,13 +385,14 @@ namespace twinflow::fem
         write_output();
         next_output += scene.output_interval;
       }
+      if (adaptation && adaptation->due(ns.n_steps()))
+        adapt_mesh();
+      // Last in the step: a restart continues with exactly the state the next step sees.
       if (prm.checkpoint_interval > 0 && ns.time() >= next_checkpoint * (1 - 1e-9))
       {
         write_checkpoint(dir + "/checkpoint");
         next_checkpoint += prm.checkpoint_interval;
       }
-      if (adaptation && adaptation->due(ns.n_steps()))
-        adapt_mesh();
       const double rate = st.velocity_change / (dt * std::max(ns.max_velocity(), 1e-300));
       steady = prm.steady_tolerance > 0 && ns.n_steps() > 2 && rate < prm.steady_tolerance;
       std::ostringstream extra;

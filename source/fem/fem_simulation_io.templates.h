@@ -189,6 +189,7 @@ namespace twinflow::fem
   void FemSimulation<dim>::write_summary()
   {
     const NavierStokes<dim> &ns = *navier_stokes;
+    result.monitors["max velocity"] = ns.max_velocity();
     if (ibm)
     {
       const auto [inside, surface] = ibm->slip_errors(ns);

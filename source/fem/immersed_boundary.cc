@@ -14,12 +14,13 @@ namespace twinflow::fem
 
   void ImmersedBoundaryParameters::declare(ParameterHandler &prm)
   {
-    prm.declare_entry("Interface width", "1.5", Patterns::Double(0),
+    prm.declare_entry("Interface width", "1", Patterns::Double(0),
                       "epsilon / h_K: half-width of the smoothed Heaviside and delta (Eq. 13) of the solid level "
                       "set, in local cells (the paper: 1 to 2).");
-    prm.declare_entry("Nitsche penalty", "20", Patterns::Double(0),
-                      "gamma_alpha of the Nitsche penalty C_alpha = gamma_alpha mu / h_K (Eq. 15-16). Large enough "
-                      "for coercivity of the symmetric Nitsche form (about 10 p^2 for Q_p).");
+    prm.declare_entry("Nitsche penalty", "10", Patterns::Double(0),
+                      "gamma_alpha of the Nitsche penalty C_alpha = gamma_alpha mu / h_K (Eq. 15-16). Smeared over the "
+                      "band by delta_eps it also acts as a drag on the fluid there: larger values widen the effective "
+                      "body slightly (doc/benchmarks.md).");
     prm.declare_entry("Volume penalty", "100", Patterns::Double(0),
                       "gamma_beta of the penalty inside the solid C_beta = gamma_beta (rho/tau + mu/h_K^2) "
                       "(Eq. 15-16): the velocity inside the solid differs from u_s by about grad p / C_beta.");

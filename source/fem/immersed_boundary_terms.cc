@@ -58,7 +58,7 @@ namespace twinflow::fem
     const double eps = prm.interface_width * cell_size(c.cell);
     unsigned int k;
     for (unsigned int q = 0; q < fraction.size(); ++q)
-      fraction[q] *= smoothed_heaviside(distance(c.fe_values.quadrature_point(q), k), eps);
+      fraction[q] *= 1 - solid_fraction(distance(c.fe_values.quadrature_point(q), k), eps);
   }
 
   namespace
@@ -99,7 +99,7 @@ namespace twinflow::fem
       unsigned int      k;
       const double      phi   = distance(x, k);
       const double      delta = smoothed_delta(phi, eps);
-      const double      H     = smoothed_heaviside(-phi, eps); // 1 inside the solid
+      const double      H     = solid_fraction(phi, eps); // 1 inside the solid
       if (delta == 0 && H == 0)
         continue;
       const double         mu      = c.material.viscosity[q], rho = c.material.density[q];
@@ -161,7 +161,7 @@ namespace twinflow::fem
           const Point<dim> &x = fev.quadrature_point(q);
           unsigned int      k;
           const double      phi   = distance(x, k);
-          const double      delta = smoothed_delta(phi, eps), H = smoothed_heaviside(-phi, eps);
+          const double      delta = smoothed_delta(phi, eps), H = solid_fraction(phi, eps);
           if (delta == 0 && H == 0)
             continue;
           const double mu = mat.viscosity[q], rho = mat.density[q];

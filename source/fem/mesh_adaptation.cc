@@ -1,7 +1,7 @@
 #include <twinflow/core/errors.h>
 #include <twinflow/fem/mesh_adaptation.h>
 
-#include <deal.II/distributed/grid_refinement.h>
+#include <deal.II/base/mpi.h>
 
 #include <cmath>
 #include <limits>
@@ -25,10 +25,11 @@ namespace twinflow::fem
                       "Steps between adaptation checks (a fixed interface refines once).");
     prm.declare_entry("Move fraction", "0.25", Patterns::Double(0, 1),
                       "Re-adapt when an interface has moved more than this fraction of the band half-width.");
-    prm.declare_entry("Kelly fraction", "0", Patterns::Double(0, 1),
-                      "Fraction of the cells (largest Kelly indicator of the velocity) refined on top of the "
-                      "bands, up to the maximum level; 0: bands only. With it, the mesh is re-adapted every "
-                      "'Interval' steps.");
+    prm.declare_entry("Kelly threshold", "0", Patterns::Double(0, 1),
+                      "Cells whose Kelly indicator of the velocity exceeds this fraction of the largest one refine "
+                      "on top of the bands, up to the maximum level (a threshold relative to the global maximum "
+                      "marks the same cells on any number of ranks); 0: bands only. With it, the mesh is "
+                      "re-adapted every 'Interval' steps.");
   }
 
   void MeshAdaptationParameters::parse(ParameterHandler &prm)
@@ -38,7 +39,7 @@ namespace twinflow::fem
     band_width     = prm.get_double("Band width");
     interval       = prm.get_integer("Interval");
     move_fraction  = prm.get_double("Move fraction");
-    kelly_fraction = prm.get_double("Kelly fraction");
+    kelly_threshold = prm.get_double("Kelly threshold");
     require(maximum_level == 0 || minimum_level <= maximum_level, "FEM/Mesh adaptation/Minimum level",
             std::to_string(minimum_level),
             "the minimum level must not exceed the maximum level (" + std::to_string(maximum_level) + ")");
@@ -79,11 +80,21 @@ namespace twinflow::fem
   bool MeshAdaptation<dim>::mark(const Vector<float> *indicator)
   {
     const int lo = prm.minimum_level, hi = prm.maximum_level;
-    if (indicator != nullptr && prm.kelly_fraction > 0)
-      parallel::distributed::GridRefinement::refine_and_coarsen_fixed_number(tria, *indicator, prm.kelly_fraction, 0.0);
-    else
+    double threshold = std::numeric_limits<double>::max();
+    if (indicator != nullptr && prm.kelly_threshold > 0)
+    {
+      float largest = 0;
       for (const auto &cell : tria.active_cell_iterators())
-        cell->clear_refine_flag();
+        if (cell->is_locally_owned())
+          largest = std::max(largest, (*indicator)[cell->active_cell_index()]);
+      threshold = prm.kelly_threshold * Utilities::MPI::max(double(largest), tria.get_communicator());
+    }
+    for (const auto &cell : tria.active_cell_iterators())
+    {
+      cell->clear_refine_flag();
+      if (cell->is_locally_owned() && indicator != nullptr && (*indicator)[cell->active_cell_index()] > threshold)
+        cell->set_refine_flag();
+    }
     for (const auto &cell : tria.active_cell_iterators())
     {
       if (!cell->is_locally_owned())
@@ -113,7 +124,7 @@ namespace twinflow::fem
   {
     if (step % prm.interval != 0)
       return false;
-    if (prm.kelly_fraction > 0)
+    if (prm.kelly_threshold > 0)
       return true;
     for (const auto *i : tracked)
       if (i->displacement_since_adaptation() > prm.move_fraction * band_half_width())

@@ -6,16 +6,21 @@
  * condition u = u_s on Γ_s enters the velocity step as
  *
  *   ∫ [−σ(u)n·v − σ(v)n·(u − u_s) + C_α v·(u − u_s)] δ_ε(φ_s)      (Nitsche, symmetric)
- * + ∫ C_β (u − u_s)·v H_ε(−φ_s)                                    (penalty inside the solid)
+ * + ∫ C_β (u − u_s)·v H_s,  H_s = H_ε(−φ_s)                        (penalty inside the solid)
  *
  * with n = −∇φ_s the fluid's outward normal, σ(u) = μ∇u or 2με(u) as the flow solver's
  * viscous form, H_ε and δ_ε = H_ε' of Eq. 13 (φ_ls = π) and ε = (interface width) · h_K.
  * Inertia, convection, viscosity and body force are switched off inside by the fluid
- * fraction 1 − H_ε(−φ_s) = H_ε(φ_s): there only ∇p and the penalty remain (a porous ghost
- * flow). Penalties: C_α = γ_α μ / h_K, C_β = γ_β (ρ/τ + μ/h_K²).
+ * fraction 1 − H_s: there only ∇p and the penalty remain (a porous ghost flow). Penalties:
+ * C_α = γ_α μ / h_K, C_β = γ_β (ρ/τ + μ/h_K²).
+ *
+ * Accuracy: the smoothed interface makes the body act slightly larger than it is (the
+ * penalty already stops the fluid where H_s ~ 1e-2, a fraction of ε outside Γ_s): forces
+ * converge at first order in ε ∝ h, which is what the band refinement pays for
+ * (doc/benchmarks.md: measured effect of ε, γ_α, γ_β).
  *
  * The force of the fluid on a solid is the reaction of these terms, tested with v = e_d
- * (σ(e_d) = 0): F = ∫ [−σ(u)n + C_α(u − u_s)] δ_ε + ∫ C_β (u − u_s) H_ε(−φ_s). Inside
+ * (σ(e_d) = 0): F = ∫ [−σ(u)n + C_α(u − u_s)] δ_ε + ∫ C_β (u − u_s) H_s. Inside
  * the solid ∇p = −C_β(u − u_s), so the penalty part is −∮ p n_s; the Nitsche part is the
  * viscous traction.
  */
@@ -40,8 +45,8 @@ namespace twinflow::fem
   /// Parameters of subsection "FEM/Immersed boundary".
   struct ImmersedBoundaryParameters
   {
-    double interface_width = 1.5;  ///< ε / h_K
-    double nitsche_penalty = 20;   ///< γ_α of C_α = γ_α μ / h_K
+    double interface_width = 1;    ///< ε / h_K
+    double nitsche_penalty = 10;   ///< γ_α of C_α = γ_α μ / h_K
     double volume_penalty  = 100;  ///< γ_β of C_β = γ_β (ρ/τ + μ/h_K²)
 
     static void declare(dealii::ParameterHandler &prm);
@@ -112,6 +117,8 @@ namespace twinflow::fem
   private:
     /// φ_s = min over the solids, the index of the nearest one.
     double distance(const dealii::Point<dim> &x, unsigned int &nearest) const;
+    /// H_s = H_ε(−φ_s): the penalty's weight (1 inside the solid) at signed distance @p phi.
+    static double solid_fraction(double phi, double epsilon) { return smoothed_heaviside(-phi, epsilon); }
     /// Cell size h_K (edge length of a square/cubic cell).
     static double cell_size(const typename dealii::DoFHandler<dim>::active_cell_iterator &cell);
 

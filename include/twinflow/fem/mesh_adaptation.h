@@ -7,8 +7,9 @@
  * A cell is *in the band* of an interface when the interface comes closer than
  * c · h_max to it (|φ(x_K)| − r_K < c · h_max, x_K its centre, r_K its circumradius,
  * h_max the cell size at the maximum level). Marking: band cells refine up to the maximum
- * level; the others coarsen down to the minimum level; optionally the cells with the
- * largest Kelly indicator of the velocity refine on top. p4est enforces the 2:1 balance;
+ * level; the others coarsen down to the minimum level; optionally the cells whose Kelly
+ * indicator of the velocity exceeds a fraction of the largest one refine on top (a
+ * threshold relative to the global maximum marks the same cells on any number of ranks). p4est enforces the 2:1 balance;
  * hanging-node constraints are built by every physics in setup_dofs().
  */
 #include <deal.II/base/parameter_handler.h>
@@ -29,7 +30,7 @@ namespace twinflow::fem
     double       band_width     = 4;   ///< c: half-width of the band in cells of the maximum level
     unsigned int interval       = 10;  ///< steps between adaptation checks
     double       move_fraction  = 0.25;///< re-adapt when an interface moved more than this × band
-    double       kelly_fraction = 0;   ///< fraction of cells refined by the Kelly indicator (0: off)
+    double       kelly_threshold = 0;  ///< refine where η_K > this × max η (Kelly; 0: off)
 
     bool enabled() const { return maximum_level > 0; }
 
