@@ -63,17 +63,6 @@ namespace twinflow::fem
 
   namespace
   {
-    /// σ(φ_j) n · e_ci for the vector shape function φ_j = s_j e_cj (μ = 1).
-    template <int dim>
-    double stress_normal(const Tensor<1, dim> &grad_sj, unsigned int cj, unsigned int ci, const Tensor<1, dim> &n,
-                         bool symmetric)
-    {
-      double v = ci == cj ? grad_sj * n : 0.0;
-      if (symmetric)
-        v += grad_sj[ci] * n[cj];
-      return v;
-    }
-
     /// σ(u) n for a velocity gradient (μ = 1).
     template <int dim>
     Tensor<1, dim> stress_normal(const Tensor<2, dim> &grad_u, const Tensor<1, dim> &n, bool symmetric)
@@ -93,6 +82,8 @@ namespace twinflow::fem
     const double h   = cell_size(c.cell);
     const double eps = prm.interface_width * h;
     const unsigned int n = fev.get_fe().n_dofs_per_cell();
+    std::vector<double>         sv(n), sn(n);
+    std::vector<Tensor<1, dim>> sg(n);
     for (unsigned int q = 0; q < fev.n_quadrature_points; ++q)
     {
       const Point<dim> &x = fev.quadrature_point(q);
@@ -110,25 +101,37 @@ namespace twinflow::fem
       const double         JxW     = fev.JxW(q);
       const double         mass    = (delta * c_alpha + H * c_beta) * JxW;
       const double         nitsche = delta * mu * JxW;
+      const bool           sym     = c.symmetric_stress;
+      // Per shape function: value, gradient, ∇s·n; σ(φ_j)n·e_ci = δ_{ci cj} ∇s_j·n + [sym] ∂_ci s_j n_cj.
       for (unsigned int i = 0; i < n; ++i)
       {
-        const unsigned int   ci = c.component[i];
-        const double         si = fev.shape_value(i, q);
-        const Tensor<1, dim> gi = fev.shape_grad(i, q);
+        sv[i] = fev.shape_value(i, q);
+        sg[i] = fev.shape_grad(i, q);
+        sn[i] = sg[i] * n_f;
+      }
+      for (unsigned int i = 0; i < n; ++i)
+      {
+        const unsigned int ci = c.component[i];
         // σ(φ_i) n_f · u_s (adjoint-consistency term with the known u_s)
-        double sigma_i_us = 0;
-        for (unsigned int d = 0; d < dim; ++d)
-          sigma_i_us += stress_normal<dim>(gi, ci, d, n_f, c.symmetric_stress) * u_s[d];
-        rhs(i) += mass * u_s[ci] * si - nitsche * sigma_i_us;
+        double sigma_i_us = sn[i] * u_s[ci];
+        if (sym)
+          sigma_i_us += (sg[i] * u_s) * n_f[ci];
+        rhs(i) += mass * u_s[ci] * sv[i] - nitsche * sigma_i_us;
+        if (nitsche == 0)
+        {
+          for (unsigned int j = 0; j < n; ++j)
+            if (c.component[j] == ci)
+              matrix(i, j) += mass * sv[i] * sv[j];
+          continue;
+        }
         for (unsigned int j = 0; j < n; ++j)
         {
-          const unsigned int   cj = c.component[j];
-          const double         sj = fev.shape_value(j, q);
-          const Tensor<1, dim> gj = fev.shape_grad(j, q);
-          double a = -nitsche * (stress_normal<dim>(gj, cj, ci, n_f, c.symmetric_stress) * si +
-                                 stress_normal<dim>(gi, ci, cj, n_f, c.symmetric_stress) * sj);
+          const unsigned int cj = c.component[j];
+          double a = 0;
           if (ci == cj)
-            a += mass * si * sj;
+            a = mass * sv[i] * sv[j] - nitsche * (sn[j] * sv[i] + sn[i] * sv[j]);
+          if (sym)
+            a -= nitsche * (sg[j][ci] * n_f[cj] * sv[i] + sg[i][cj] * n_f[ci] * sv[j]);
           matrix(i, j) += a;
         }
       }
