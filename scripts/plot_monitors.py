@@ -20,11 +20,26 @@ Martin & Moyce surge front (nondimensional T, Z) on the dam-break front::
         --ref-x T --ref-y Z --monitor front --column x_front \
         --ref-x-scale 0.0539 --ref-y-scale 0.05715
 
-(the options may be repeated for several overlays). Uses matplotlib with the
-Agg backend, so no display is needed. Run with Debian's /usr/bin/python3.
+(the options may be repeated for several overlays).
+
+A constant reference value is drawn as a horizontal dashed line on one column's
+subplot with ``--hline MONITOR:COLUMN=VALUE[:LABEL]`` (repeatable), e.g. the
+body-fitted drag coefficient on the C_d(t) curves of an immersed-boundary run::
+
+    plot_monitors.py run/ --hline "forces:C_d=5.5795:body-fitted reference" \
+        --hline forces:C_l=0.0106
+
+COLUMN is the column's name with or without its unit (``C_d`` or ``C_d [-]``);
+LABEL (may contain ':') is the legend entry, by default ``COLUMN = VALUE``.
+twinflow passes ``--hline forces:C_d=...:reference`` (and C_l) itself when the
+scene sets References/Drag coefficient (Lift coefficient). A malformed --hline
+is an error (exit status 2); one naming a monitor or column that no run wrote
+gives a warning. Uses matplotlib with the Agg backend, so no display is needed.
+Run with Debian's /usr/bin/python3.
 """
 
 import argparse
+import math
 import os
 import sys
 
@@ -120,6 +135,32 @@ def column_index(headers, column):
     return None
 
 
+HLINE_FORM = "MONITOR:COLUMN=VALUE[:LABEL]"
+
+
+def parse_hline(spec):
+    """'forces:C_d=5.58:body-fitted reference' -> ('forces', 'C_d', 5.58, label).
+
+    Raises ValueError with a message saying what is wrong.
+    """
+    monitor, colon, rest = spec.partition(":")
+    if not colon or not monitor.strip():
+        raise ValueError("no 'MONITOR:' before the column")
+    column, equals, rest = rest.partition("=")
+    if not equals or not column.strip():
+        raise ValueError("no 'COLUMN=' after the monitor")
+    value_text, _, label = rest.partition(":")
+    try:
+        value = float(value_text)
+    except ValueError:
+        raise ValueError(f"the value {value_text.strip()!r} is not a number") from None
+    if not math.isfinite(value):
+        raise ValueError(f"the value {value_text.strip()!r} is not finite")
+    column = column.strip()
+    label = label.strip() or f"{column} = {value:g}"
+    return monitor.strip(), column, value, label
+
+
 def parse_arguments(argv):
     p = argparse.ArgumentParser(
         description="Plot twinflow monitor CSV files, one PNG per monitor.")
@@ -139,7 +180,18 @@ def parse_arguments(argv):
     ref.add_argument("--ref-y-scale", action="append", type=float, default=[],
                      help="y = scale * y_file (default 1)")
     ref.add_argument("--ref-label", action="append", default=[], help="legend label")
+    p.add_argument("--hline", action="append", default=[], metavar=HLINE_FORM,
+                   help="horizontal dashed line at VALUE on that column's subplot, in the "
+                   "legend as LABEL (default 'COLUMN = VALUE'); repeatable")
     args = p.parse_args(argv)
+
+    args.hlines = []
+    for spec in args.hline:
+        try:
+            args.hlines.append(parse_hline(spec))
+        except ValueError as error:
+            p.error(f"--hline {spec!r}: {error}; expected {HLINE_FORM}, "
+                    "e.g. --hline 'forces:C_d=5.58:body-fitted reference'")
 
     n = len(args.reference)
     for option in ("ref_x", "ref_y", "monitor", "column"):
@@ -170,8 +222,14 @@ def load_references(args):
     return references
 
 
-def plot_monitor(name, entries, references, output_dir, dpi):
-    """entries: [(label, headers, columns)] of one monitor. Returns the PNG path."""
+def hline_matches(hline_column, column, header):
+    """--hline's COLUMN names the column as its name (C_d) or its header (C_d [-])."""
+    return hline_column in (column, header)
+
+
+def plot_monitor(name, entries, references, hlines, output_dir, dpi):
+    """entries: [(label, headers, columns)] of one monitor; hlines: [(monitor, column,
+    value, label)]. Returns the PNG path."""
     names, headers_of = [], {}
     for _, headers, _ in entries:
         for h in headers[1:]:
@@ -190,6 +248,9 @@ def plot_monitor(name, entries, references, output_dir, dpi):
         for monitor, ref_column, label, x, y in references:
             if monitor == name and ref_column == column:
                 ax.plot(x, y, "o", ms=4.5, mfc="none", mec="k", label=label)
+        for monitor, line_column, value, label in hlines:
+            if monitor == name and hline_matches(line_column, column, headers_of[column]):
+                ax.axhline(value, ls="--", lw=1.2, color="k", alpha=0.75, label=label)
         ax.set_ylabel(headers_of[column])
         ax.grid(True, alpha=0.3)
         if len(ax.get_legend_handles_labels()[0]) > 1:
@@ -235,9 +296,19 @@ def main(argv=None):
         if monitor not in by_monitor:
             print(f"plot_monitors: warning: no monitor {monitor!r} for the reference overlay",
                   file=sys.stderr)
+    for monitor, column, _, _ in args.hlines:
+        if monitor not in by_monitor:
+            print(f"plot_monitors: warning: no monitor {monitor!r} for --hline "
+                  f"{monitor}:{column}", file=sys.stderr)
+            continue
+        headers = list(dict.fromkeys(h for _, hs, _ in by_monitor[monitor] for h in hs[1:]))
+        if not any(hline_matches(column, split_name_unit(h)[0], h) for h in headers):
+            print(f"plot_monitors: warning: monitor {monitor!r} has no column {column!r} for "
+                  f"--hline (columns: {', '.join(headers)})", file=sys.stderr)
 
     os.makedirs(output_dir, exist_ok=True)
-    written = [plot_monitor(name, by_monitor[name], references, output_dir, args.dpi)
+    written = [plot_monitor(name, by_monitor[name], references, args.hlines, output_dir,
+                            args.dpi)
                for name in sorted(by_monitor)]
     print(f"plot_monitors: wrote {len(written)} plot(s) to {output_dir}")
     return 0

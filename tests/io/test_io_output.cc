@@ -13,7 +13,10 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/wait.h>
+
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <regex>
@@ -286,4 +289,71 @@ TEST(Plots, MonitorPngsForFemAndSph)
                                   "--ref-x", "T", "--ref-y", "Z", "--monitor", "front",
                                   "--column", "x_front"}));
   EXPECT_TRUE(fs::exists(dir / "cmp/front.png"));
+}
+
+// --hline MONITOR:COLUMN=VALUE[:LABEL] (what twinflow passes for References/Drag and Lift
+// coefficient): the PNG differs from the one without it, a column named with or without its unit
+// gives no warning, an unknown column a warning, and a malformed --hline an error naming it.
+TEST(Plots, ReferenceHorizontalLines)
+{
+  TempDir dir;
+  for (const std::string method : {"fem", "sph"})
+    {
+      CsvMonitor m(dir / (method + "/forces.csv"), {"time", "Fx", "C_d", "C_l"}, {"s", "N", "-", "-"});
+      for (int i = 0; i <= 10; ++i)
+        m.append({0.1 * i, 1.0, 5.0 + 0.05 * i + (method == "sph" ? 0.02 : 0.0), 0.001 * i});
+    }
+  if (plot_script_path().empty() || !have_python_with("matplotlib"))
+    GTEST_SKIP() << "plot script or /usr/bin/python3 with matplotlib not available";
+
+  // the script itself, with its stdout and stderr in files; returns the exit status
+  const auto script = [&](const std::string &arguments, const std::string &name) {
+    const std::string command = shell_quote("/usr/bin/python3") + " " +
+                                shell_quote(plot_script_path()) + " " + arguments + " >" +
+                                shell_quote(dir / (name + ".out")) + " 2>" +
+                                shell_quote(dir / (name + ".err"));
+    const int status = std::system(command.c_str());
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  };
+  const std::string fem = shell_quote(dir / "fem"), sph = shell_quote(dir / "sph");
+
+  ASSERT_EQ(script(fem + " --output-dir " + shell_quote(dir / "plain"), "plain"), 0);
+  ASSERT_EQ(script(fem + " " + sph + " --output-dir " + shell_quote(dir / "lines") +
+                     " --hline 'forces:C_d=5.3:body-fitted reference' --hline 'forces:C_l [-]=0.004'",
+                   "lines"),
+            0)
+    << slurp(dir / "lines.err");
+  EXPECT_TRUE(fs::exists(dir / "lines/forces.png"));
+  EXPECT_EQ(slurp(dir / "lines.err"), "");
+  ASSERT_EQ(script(fem + " --output-dir " + shell_quote(dir / "one") + " --hline forces:C_d=5.3",
+                   "one"),
+            0);
+  ASSERT_TRUE(fs::exists(dir / "one/forces.png"));
+  EXPECT_NE(slurp(dir / "one/forces.png"), slurp(dir / "plain/forces.png"))
+    << "the reference line is not drawn";
+
+  EXPECT_EQ(script(fem + " --output-dir " + shell_quote(dir / "unknown") + " --hline forces:C_x=1",
+                   "unknown"),
+            0);
+  EXPECT_NE(slurp(dir / "unknown.err").find("warning: monitor 'forces' has no column 'C_x'"),
+            std::string::npos)
+    << slurp(dir / "unknown.err");
+
+  for (const std::string bad : {"forces:C_d", "forces:C_d=abc", ":C_d=1"})
+    {
+      EXPECT_EQ(script(fem + " --output-dir " + shell_quote(dir / "bad") + " --hline " + shell_quote(bad),
+                       "bad"),
+                2)
+        << bad;
+      const std::string err = slurp(dir / "bad.err");
+      EXPECT_NE(err.find("error: --hline '" + bad + "'"), std::string::npos) << bad << "\n" << err;
+      EXPECT_NE(err.find("expected MONITOR:COLUMN=VALUE[:LABEL]"), std::string::npos) << err;
+    }
+  EXPECT_FALSE(fs::exists(dir / "bad/forces.png"));
+
+  // through make_monitor_plots(), as twinflow's main calls it
+  EXPECT_TRUE(make_monitor_plots({dir / "fem"}, {"--output-dir", dir / "app", "--hline",
+                                                 "forces:C_d=5.3:reference"}));
+  EXPECT_TRUE(fs::exists(dir / "app/forces.png"));
+  EXPECT_FALSE(make_monitor_plots({dir / "fem"}, {"--output-dir", dir / "app2", "--hline", "forces:C_d"}));
 }
