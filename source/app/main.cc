@@ -14,6 +14,7 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -216,6 +217,26 @@ one folder per case, a table and error-against-cost plots): scripts/study.py --h
     }
   }
 
+  /// Extra arguments of scripts/plot_monitors.py for the scene's references: a dashed
+  /// horizontal line at References/Drag coefficient (Lift coefficient) on the C_d (C_l)
+  /// subplot of the forces monitor, FEM and SPH alike (none without that monitor).
+  std::vector<std::string> plot_arguments(const twinflow::Scene &scene)
+  {
+    std::vector<std::string> arguments;
+    const auto hline = [&](const char *column, const std::optional<double> &value)
+    {
+      if (!value || !scene.monitors_contain("forces"))
+        return;
+      std::ostringstream spec;
+      spec.precision(12);
+      spec << "forces:" << column << '=' << *value << ":reference";
+      arguments.insert(arguments.end(), {"--hline", spec.str()});
+    };
+    hline("C_d", scene.reference_drag);
+    hline("C_l", scene.reference_lift);
+    return arguments;
+  }
+
   int run(const std::string &file, const std::vector<Override> &overrides, const std::string &output_override,
           const bool check_only)
   {
@@ -270,15 +291,15 @@ one folder per case, a table and error-against-cost plots): scripts/study.py --h
       sph::run_sph_scene(scene, sph_prm, sph_dir);
       if (!scene.wants(Method::fem))
       {
-        io::make_plots(sph_dir);
+        io::make_monitor_plots({sph_dir}, plot_arguments(scene));
         return 0;
       }
     }
     fem::run_fem_scene(scene, fem_prm, dir);
     if (scene.wants(Method::sph))
-      io::make_monitor_plots({dir, scene.output_directory + "/sph"});
+      io::make_monitor_plots({dir, scene.output_directory + "/sph"}, plot_arguments(scene));
     else
-      io::make_plots(dir);
+      io::make_monitor_plots({dir}, plot_arguments(scene));
     return 0;
   }
 } // namespace
