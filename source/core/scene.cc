@@ -316,6 +316,32 @@ namespace twinflow
           require(b.center[d] - b.radius >= s.domain.lower[d] - 1e-12 && b.center[d] + b.radius <= s.domain.upper[d] + 1e-12,
                   path + "/Center", prm.get("Center"), "the solid must lie inside the domain box");
       }
+      else if (b.shape == "box" || b.shape == "plate")
+      {
+        require(b.length > 0, path + "/Length", prm.get("Length"), "a box or plate needs Length > 0 and Thickness > 0");
+        require(b.thickness > 0, path + "/Thickness", prm.get("Thickness"),
+                "a box or plate needs Length > 0 and Thickness > 0");
+        // The Length x Thickness rectangle centred at Center, its length along (cos Angle, sin Angle):
+        // its four corners (in 3D its x-y footprint; it spans the whole depth) must lie in the box.
+        const double ca = std::cos(b.angle), sa = std::sin(b.angle);
+        const double tolerance =
+          1e-12 * std::max({1.0, s.domain.upper[0] - s.domain.lower[0], s.domain.upper[1] - s.domain.lower[1]});
+        for (const double u : {-0.5 * b.length, 0.5 * b.length})
+          for (const double v : {-0.5 * b.thickness, 0.5 * b.thickness})
+          {
+            const double corner[2] = {b.center[0] + ca * u - sa * v, b.center[1] + sa * u + ca * v};
+            bool         inside    = true;
+            for (int d = 0; d < 2; ++d)
+              inside = inside && corner[d] >= s.domain.lower[d] - tolerance && corner[d] <= s.domain.upper[d] + tolerance;
+            if (!inside)
+            {
+              std::ostringstream where;
+              where << "the solid must lie inside the domain box (the corner (" << corner[0] << ", " << corner[1]
+                    << ") of its Length x Thickness rectangle turned by Angle is outside)";
+              require(false, path + "/Center", prm.get("Center"), where.str());
+            }
+          }
+      }
       s.solids.push_back(b);
       prm.leave_subsection();
     }
