@@ -241,10 +241,12 @@ def plot_monitor(name, entries, references, hlines, output_dir, dpi):
     fig, axes = plt.subplots(len(names), 1, sharex=True, squeeze=False,
                              figsize=(8.0, min(2.6 * len(names) + 0.8, 40.0)))
     for ax, column in zip(axes[:, 0], names):
-        for label, headers, columns in entries:
+        for k, (label, headers, columns) in enumerate(entries):
             i = column_index(headers, column)
             if i is not None:
-                ax.plot(columns[0], columns[i], "-", lw=1.4, label=label)
+                # the first source on top (FEM before a noisier SPH), the others a little lighter
+                ax.plot(columns[0], columns[i], "-", lw=1.4 if k == 0 else 1.0, alpha=1.0 if k == 0 else 0.75,
+                        zorder=2 + len(entries) - k, label=label)
         for monitor, ref_column, label, x, y in references:
             if monitor == name and ref_column == column:
                 ax.plot(x, y, "o", ms=4.5, mfc="none", mec="k", label=label)
