@@ -280,6 +280,8 @@ one folder per case, a table and error-against-cost plots): scripts/study.py --h
     }
     if (check_only)
     {
+      if (scene.wants(Method::fem))
+        fem::check_fem_scene(scene, fem_prm);
       if (root)
         std::cout << "twinflow: input ok (--check: nothing run)" << std::endl;
       return 0;

@@ -57,6 +57,15 @@ namespace twinflow::fem
     prm.leave_subsection();
   }
 
+  void check_fem_scene(const Scene &scene, const FemParameters &parameters)
+  {
+    // Composition alone: refuses what the FEM cannot build, allocates no mesh or DoFs.
+    if (scene.dimension == 2)
+      FemSimulation<2> check(scene, parameters, "");
+    else
+      FemSimulation<3> check(scene, parameters, "");
+  }
+
   FemRunResult run_fem_scene(const Scene &scene, const FemParameters &parameters, const std::string &dir)
   {
     return scene.dimension == 2 ? run_fem<2>(scene, parameters, dir) : run_fem<3>(scene, parameters, dir);

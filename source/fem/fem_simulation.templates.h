@@ -18,6 +18,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <memory>
 #include <sstream>
 
@@ -182,6 +183,14 @@ namespace twinflow::fem
     else
       idle.insert(idle.begin(), "immersed boundary");
     const bool interfaces = ibm != nullptr;
+    if (ibm && prm.adaptation.enabled() && prm.immersed_boundary.interface_width > prm.adaptation.band_width)
+      throw InputError("FEM/Mesh adaptation/Band width = " + std::to_string(prm.adaptation.band_width) +
+                       ": the band must cover the smoothed solid interface (FEM/Immersed boundary/Interface width = " +
+                       std::to_string(prm.immersed_boundary.interface_width) + " cells)");
+    if (!prm.restart_file.empty() && !(std::ifstream(prm.restart_file + ".meta") && std::ifstream(prm.restart_file + ".mesh")))
+      throw InputError("FEM/Restart file = '" + prm.restart_file + "': cannot open " + prm.restart_file + ".meta and " +
+                       prm.restart_file + ".mesh (write them with FEM/Checkpoint interval > 0; give the prefix "
+                       "without extension)");
     if (prm.adaptation.enabled() && (interfaces || prm.adaptation.kelly_threshold > 0))
       active.push_back(std::string("mesh adaptation (levels ") + std::to_string(prm.adaptation.minimum_level) + "-" +
                        std::to_string(prm.adaptation.maximum_level) + (interfaces ? ", band at phi_s = 0" : "") +
@@ -292,10 +301,6 @@ namespace twinflow::fem
       if (ibm)
         for (auto &s : ibm->solids())
           adaptation->register_interface(*s);
-      if (ibm && prm.immersed_boundary.interface_width > prm.adaptation.band_width)
-        throw InputError("FEM/Mesh adaptation/Band width = " + std::to_string(prm.adaptation.band_width) +
-                         ": the band must cover the smoothed solid interface (FEM/Immersed boundary/Interface width = " +
-                         std::to_string(prm.immersed_boundary.interface_width) + " cells)");
     }
     if (!prm.restart_file.empty())
     {

@@ -158,10 +158,7 @@ namespace twinflow::fem
   template <int dim>
   void FemSimulation<dim>::load_checkpoint(const std::string &prefix)
   {
-    std::ifstream meta(prefix + ".meta");
-    if (!meta || !std::ifstream(prefix + ".mesh"))
-      throw InputError("FEM/Restart file = '" + prefix + "': cannot open " + prefix + ".meta and " + prefix +
-                       ".mesh (write them with FEM/Checkpoint interval > 0; give the prefix without extension)");
+    std::ifstream meta(prefix + ".meta"); // its presence was checked in compose()
     std::string tag;
     int         version = 0, file_dim = 0;
     unsigned long long cells = 0;

@@ -123,6 +123,10 @@ namespace twinflow::fem
     return FemSimulation<dim>(scene, parameters, output_directory).run();
   }
 
+  /// Composes the FEM simulation of @p scene without running it: throws the input errors a
+  /// run would throw before its first step (used by `twinflow --check`).
+  void check_fem_scene(const Scene &scene, const FemParameters &parameters);
+
   /// Same with the dimension taken from the scene.
   FemRunResult run_fem_scene(const Scene &scene, const FemParameters &parameters, const std::string &output_directory);
 } // namespace twinflow::fem
