@@ -19,54 +19,11 @@ namespace
   /// meshes change during the run, BDF2 carries u^{n-1}.
   std::string scene(double end_time, double checkpoint_interval, const std::string &restart, double kelly = 0.3)
   {
-    return R"(
-set Dimension = 2
-subsection Scene
-  set End time = )" + std::to_string(end_time) + R"(
-end
-subsection Domain
-  set Lower corner = 0, 0
-  set Upper corner = 1.0, 0.4
-  set Periodic directions = x
-end
-subsection Fluids
-  subsection Fluid 1
-    set Density   = 20
-    set Viscosity = 0.1
-  end
-end
-subsection Forces
-  set Body force = 1.0, 0
-end
-subsection Solids
-  set Number of solids = 1
-  subsection Solid 1
-    set Center = 0.5, 0.2
-    set Radius = 0.05
-  end
-end
-subsection Monitors
-  set Monitors           = forces, energy
-  set Reference velocity = 1.5
-  set Reference length   = 0.1
-end
-subsection FEM
-  set Global refinements = 2
-  set Time step          = 0.01
-  set Checkpoint interval = )" + std::to_string(checkpoint_interval) + R"(
-  set Restart file = )" + restart + R"(
-  subsection Navier-Stokes
-    set Velocity preconditioner = ilu
-    set Linear solver tolerance = 1e-12
-  end
-  subsection Mesh adaptation
-    set Minimum level = 1
-    set Maximum level = 5
-    set Kelly threshold = )" + std::to_string(kelly) + R"(
-    set Interval = 5
-  end
-end
-)";
+    return periodic_cylinder_scene(end_time, "set Checkpoint interval = " + std::to_string(checkpoint_interval) +
+                                               "\nset Restart file = " + restart +
+                                               "\nsubsection Navier-Stokes\n set Linear solver tolerance = 1e-12\nend\n" +
+                                               band_levels(1, 5, " set Kelly threshold = " + std::to_string(kelly) +
+                                                                   "\n set Interval = 5\n"));
   }
 
   double relative_difference(double a, double b) { return std::abs(a - b) / std::max(std::abs(b), 1e-300); }

@@ -30,48 +30,7 @@ namespace
 
   std::string scene(const std::string &center, const std::string &fem_extra)
   {
-    return R"(
-set Dimension = 2
-subsection Scene
-  set End time = 1
-end
-subsection Domain
-  set Lower corner = 0, 0
-  set Upper corner = 1.0, 0.4
-  set Periodic directions = x
-end
-subsection Fluids
-  subsection Fluid 1
-    set Density   = 20
-    set Viscosity = 0.1
-  end
-end
-subsection Forces
-  set Body force = 1.0, 0
-end
-subsection Solids
-  set Number of solids = 1
-  subsection Solid 1
-    set Center = )" + center + R"(
-    set Radius = 0.05
-  end
-end
-subsection Monitors
-  set Monitors           = forces, energy
-  set Reference velocity = 1.5
-  set Reference length   = 0.1
-end
-subsection FEM
-  set Global refinements = 2
-  set Time step          = 0.01
-  subsection Navier-Stokes
-    set Velocity preconditioner = ilu
-  end
-  subsection Mesh adaptation
-    set Minimum level = 2
-    set Maximum level = 5
-  end
-)" + fem_extra + "\nend\n";
+    return periodic_cylinder_scene(1.0, band_levels(2, 5) + fem_extra, center);
   }
 
   /// Rows (time, kinetic energy) of an energy.csv monitor (two header lines).

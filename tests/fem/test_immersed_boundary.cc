@@ -121,53 +121,8 @@ namespace
   /// Paper 4.1 with an immersed cylinder on a band-adapted box mesh.
   std::string cylinder_scene(unsigned int level, double end_time, double steady_tolerance)
   {
-    return R"(
-set Dimension = 2
-subsection Scene
-  set End time = )" + std::to_string(end_time) + R"(
-end
-subsection Domain
-  set Lower corner = 0, 0
-  set Upper corner = 1.0, 0.4
-  set Periodic directions = x
-end
-subsection Fluids
-  subsection Fluid 1
-    set Density   = 20
-    set Viscosity = 0.1
-  end
-end
-subsection Forces
-  set Body force = 1.0, 0
-end
-subsection Solids
-  set Number of solids = 1
-  subsection Solid 1
-    set Center = 0.5, 0.2
-    set Radius = 0.05
-  end
-end
-subsection Monitors
-  set Monitors           = forces
-  set Reference velocity = 1.5
-  set Reference length   = 0.1
-end
-subsection References
-  set Drag coefficient = 1.62853
-end
-subsection FEM
-  set Global refinements = 2
-  set Time step          = 0.01
-  set Steady-state tolerance = )" + std::to_string(steady_tolerance) + R"(
-  subsection Navier-Stokes
-    set Velocity preconditioner = ilu
-  end
-  subsection Mesh adaptation
-    set Minimum level = 2
-    set Maximum level = )" + std::to_string(level) + R"(
-  end
-end
-)";
+    return periodic_cylinder_scene(end_time, "set Steady-state tolerance = " + std::to_string(steady_tolerance) + "\n" +
+                                               band_levels(2, level));
   }
 } // namespace
 
