@@ -3,6 +3,7 @@
 #include <twinflow/core/errors.h>
 #include <twinflow/fem/fem_simulation.h>
 #include <twinflow/io/csv_monitor.h>
+#include <twinflow/io/csv_table.h>
 #include <twinflow/io/mpi_utils.h>
 #include <twinflow/io/pvd_series.h>
 #include <twinflow/io/summary.h>
@@ -21,6 +22,21 @@ namespace twinflow::fem
   void FemSimulation<dim>::open_monitors()
   {
     io::ensure_directory(dir);
+    // A restart continues the monitors of the run it restarts: their rows up to the restart
+    // time are read before the files are rewritten (none for a fresh run or another directory).
+    const bool   restarted = !prm.restart_file.empty();
+    const double t0        = navier_stokes->time();
+    auto open = [&](const std::string &file, const std::vector<std::string> &cols, const std::vector<std::string> &units,
+                    const std::string &name) {
+      // only the writing rank reads (the others would race with its rewrite; they write nothing)
+      const auto carried = restarted && io::is_root_process(comm) ? io::monitor_rows_until(dir + "/" + file, t0)
+                                                                  : std::vector<std::vector<double>>();
+      auto       monitor = std::make_unique<io::CsvMonitor>(dir + "/" + file, cols, units, comm, name);
+      for (const auto &row : carried)
+        if (row.size() == cols.size())
+          monitor->append(row);
+      return monitor;
+    };
     const Fluid &fluid = scene.fluids.front();
     const double area  = scene.reference_length * (dim == 3 ? scene.domain.upper[2] - scene.domain.lower[2] : 1.0);
     coefficient_scale  = 2.0 / (fluid.density * scene.reference_velocity * scene.reference_velocity * area);
@@ -30,7 +46,7 @@ namespace twinflow::fem
       if (dim == 3) { cols.push_back("Fz"); units.push_back("N"); }
       cols.insert(cols.end(), {"C_d", "C_l", "torque z"});
       units.insert(units.end(), {"-", "-", "N m"});
-      forces_csv = std::make_unique<io::CsvMonitor>(dir + "/forces.csv", cols, units, comm, "forces");
+      forces_csv = open("forces.csv", cols, units, "forces");
     }
     if (scene.monitors_contain("pressure probes"))
     {
@@ -41,13 +57,15 @@ namespace twinflow::fem
         units.push_back("Pa");
       }
       if (scene.pressure_probes.size() >= 2) { cols.push_back("dp"); units.push_back("Pa"); }
-      probes_csv = std::make_unique<io::CsvMonitor>(dir + "/pressure_probes.csv", cols, units, comm, "pressure probes");
+      probes_csv = open("pressure_probes.csv", cols, units, "pressure probes");
     }
     if (scene.monitors_contain("energy"))
-      energy_csv = std::make_unique<io::CsvMonitor>(dir + "/energy.csv",
-                                                    std::vector<std::string>{"time", "kinetic energy", "divergence L2", "dt", "cells"},
-                                                    std::vector<std::string>{"s", "J", "1/s", "s", "-"}, comm, "energy");
+      energy_csv = open("energy.csv", {"time", "kinetic energy", "divergence L2", "dt", "cells"},
+                        {"s", "J", "1/s", "s", "-"}, "energy");
     pvd = std::make_unique<io::PvdSeries>(dir, "solution", comm);
+    if (restarted && io::is_root_process(comm))
+      std::cout << "FEM restart from " << prm.restart_file << ": t = " << t0 << " s, step " << navier_stokes->n_steps()
+                << std::endl;
   }
 
   template <int dim>

@@ -156,4 +156,23 @@ namespace twinflow::io
       throw std::runtime_error("read_csv: '" + path + "' has no header line");
     return table;
   }
+
+  std::vector<std::vector<double>>
+  monitor_rows_until(const std::string &path, const double t)
+  {
+    std::vector<std::vector<double>> rows;
+    if (!std::ifstream(path))
+      return rows;
+    const CsvTable table = read_csv(path);
+    for (std::size_t r = 0; r < table.n_rows(); ++r)
+    {
+      if (table.columns[0][r] > t * (1 + 1e-12))
+        break;
+      std::vector<double> row;
+      for (const auto &c : table.columns)
+        row.push_back(c[r]);
+      rows.push_back(std::move(row));
+    }
+    return rows;
+  }
 } // namespace twinflow::io

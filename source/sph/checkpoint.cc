@@ -1,5 +1,4 @@
 #include <twinflow/core/errors.h>
-#include <twinflow/io/csv_table.h>
 #include <twinflow/sph/checkpoint.h>
 
 #include <cmath>
@@ -124,24 +123,6 @@ namespace twinflow::sph
                          "wall or solid markers differ); restart with the scene that wrote it");
     P.x = std::move(c.x), P.u = std::move(c.u), P.p = std::move(c.p), P.rho = std::move(c.rho);
     return pos;
-  }
-
-  std::vector<std::vector<double>> monitor_rows_until(const std::string &path, const double t)
-  {
-    std::vector<std::vector<double>> rows;
-    if (!std::ifstream(path))
-      return rows;
-    const io::CsvTable table = io::read_csv(path);
-    for (std::size_t r = 0; r < table.n_rows(); ++r)
-    {
-      if (table.columns[0][r] > t * (1 + 1e-12))
-        break;
-      std::vector<double> row;
-      for (const auto &c : table.columns)
-        row.push_back(c[r]);
-      rows.push_back(std::move(row));
-    }
-    return rows;
   }
 
   template void        write_checkpoint<2>(const std::string &, const HostParticles<2> &, double, const RunPosition &);

@@ -2,6 +2,7 @@
 
 #include <twinflow/core/errors.h>
 #include <twinflow/io/csv_monitor.h>
+#include <twinflow/io/csv_table.h>
 #include <twinflow/io/mpi_utils.h>
 #include <twinflow/io/particle_output.h>
 #include <twinflow/io/progress.h>
@@ -89,7 +90,7 @@ namespace twinflow::sph
       // A restart continues the monitors of the run it restarts: their rows up to the restart
       // time are read before the files are rewritten (empty for a fresh run or another directory).
       auto carried = [&](const std::string &file) {
-        return restart ? monitor_rows_until(dir + "/" + file, start.time) : std::vector<std::vector<double>>();
+        return restart ? io::monitor_rows_until(dir + "/" + file, start.time) : std::vector<std::vector<double>>();
       };
       const auto energy_rows = carried("energy.csv"), front_rows = carried("front.csv"),
                  solver_rows = carried("solver.csv");

@@ -2,6 +2,8 @@
 // uninterrupted run did, and an adapted run gives the same monitors on 1 and 2 MPI ranks.
 #include "scene_fixtures.h"
 
+#include <twinflow/io/csv_table.h>
+
 #include <deal.II/base/mpi.h>
 
 #include <gtest/gtest.h>
@@ -37,7 +39,8 @@ TEST(FemLifeCycle, RestartContinuesAsTheUninterruptedRun)
   };
   const auto whole   = run(0.3, 0, "", "lifecycle_whole");
   const auto first   = run(0.15, 0.15, "", "lifecycle_first");
-  const auto resumed = run(0.3, 0, "lifecycle_first/checkpoint", "lifecycle_resumed");
+  // resumed into the first run's folder: its monitors are continued, not overwritten
+  const auto resumed = run(0.3, 0, "lifecycle_first/checkpoint", "lifecycle_first");
   EXPECT_GT(whole.adaptations, 2u); // the mesh did change, before and after the checkpoint
   EXPECT_EQ(resumed.steps, whole.steps);
   EXPECT_EQ(resumed.cells, whole.cells);
@@ -53,7 +56,16 @@ TEST(FemLifeCycle, RestartContinuesAsTheUninterruptedRun)
   }
   // C_l vanishes by symmetry (~1e-12): compared on the scale of C_d.
   EXPECT_LT(std::abs(resumed.monitors.at("C_l") - whole.monitors.at("C_l")), 1e-9 * whole.monitors.at("C_d"));
-  (void)first;
+  EXPECT_EQ(first.steps, 15u);
+  // forces.csv of the restarted run: the first run's 15 rows, then its own 15, matching the
+  // uninterrupted run row by row.
+  const io::CsvTable a = io::read_csv("lifecycle_whole/forces.csv"), b = io::read_csv("lifecycle_first/forces.csv");
+  ASSERT_EQ(b.n_rows(), a.n_rows());
+  for (std::size_t r = 0; r < a.n_rows(); ++r)
+  {
+    EXPECT_NEAR(b.columns[0][r], a.columns[0][r], 1e-12);
+    EXPECT_NEAR(b.columns[3][r], a.columns[3][r], 1e-9 * std::abs(a.columns[3][r]) + 1e-14) << "C_d, row " << r;
+  }
 }
 
 namespace

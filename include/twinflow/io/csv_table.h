@@ -67,4 +67,10 @@ namespace twinflow::io
    */
   CsvTable
   read_csv(const std::string &path);
+
+  /// Rows of the monitor CSV @p path with time (first column) ≤ @p t: the monitors of the run
+  /// a restart continues, read before the restarted run rewrites the file; empty if the file
+  /// does not exist.
+  std::vector<std::vector<double>>
+  monitor_rows_until(const std::string &path, double t);
 } // namespace twinflow::io

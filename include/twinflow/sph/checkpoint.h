@@ -40,8 +40,4 @@ namespace twinflow::sph
    */
   template <int dim>
   RunPosition read_checkpoint(const std::string &path, double spacing, HostParticles<dim> &P);
-
-  /// Rows of the monitor CSV @p path with time ≤ @p t (the monitors of the run a restart
-  /// continues); empty if the file does not exist.
-  std::vector<std::vector<double>> monitor_rows_until(const std::string &path, double t);
 } // namespace twinflow::sph
