@@ -344,6 +344,7 @@ namespace twinflow::fem
     }
     adaptation->mark_adapted();
     ++result.adaptations;
+    h_min = navier_stokes->minimal_cell_diameter();
   }
 
   template <int dim>
@@ -351,7 +352,7 @@ namespace twinflow::fem
   {
     double dt = prm.time_step;
     if (prm.cfl > 0)
-      dt = std::min(dt, prm.cfl * navier_stokes->minimal_cell_diameter() / std::max(navier_stokes->max_velocity(), 1e-12));
+      dt = std::min(dt, prm.cfl * h_min / std::max(navier_stokes->max_velocity(), 1e-12));
     return std::min(dt, scene.end_time - navier_stokes->time());
   }
 
@@ -360,6 +361,7 @@ namespace twinflow::fem
   {
     Timer wall;
     setup();
+    h_min = navier_stokes->minimal_cell_diameter(); // for the CFL step; updated on adaptation
     NavierStokes<dim> &ns = *navier_stokes;
     ConditionalOStream pcout(std::cout, io::is_root_process(comm));
     pcout << "FEM mesh: " << tria.n_global_active_cells() << " cells (levels " << tria.n_global_levels() - 1

@@ -4,6 +4,8 @@
 #include <twinflow/core/scene.h>
 #include <twinflow/fem/fem_simulation.h>
 
+#include "scene_fixtures.h"
+
 #include <deal.II/base/parameter_handler.h>
 
 #include <gtest/gtest.h>
@@ -30,16 +32,7 @@ subsection FEM
 end
 )";
 
-  std::pair<Scene, fem::FemParameters> load(const std::string &extra)
-  {
-    dealii::ParameterHandler prm;
-    declare_scene_parameters(prm);
-    fem::FemParameters::declare(prm);
-    prm.parse_input_from_string(base + extra);
-    fem::FemParameters f;
-    f.parse(prm);
-    return {parse_scene(prm, "test"), f};
-  }
+  std::pair<Scene, fem::FemParameters> load(const std::string &extra) { return twinflow::testing::load_scene(base + extra); }
 
   bool mentions(const std::vector<std::string> &list, const std::string &word)
   {

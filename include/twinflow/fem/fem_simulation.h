@@ -113,6 +113,7 @@ namespace twinflow::fem
     std::unique_ptr<io::PvdSeries>  pvd;
     unsigned int                    output_count = 0;
     double                          next_output = 0, next_checkpoint = 0, coefficient_scale = 0;
+    double                          h_min = 0; ///< smallest cell diameter of the current mesh
     FemRunResult                    result;
   };
 
