@@ -3,11 +3,11 @@
 #include <twinflow/core/errors.h>
 #include <twinflow/io/csv_monitor.h>
 #include <twinflow/io/csv_table.h>
+#include <twinflow/io/front_reference.h>
 #include <twinflow/io/mpi_utils.h>
 #include <twinflow/io/particle_output.h>
 #include <twinflow/io/progress.h>
 #include <twinflow/io/pvd_series.h>
-#include <twinflow/io/reference_data.h>
 #include <twinflow/io/summary.h>
 #include <twinflow/sph/checkpoint.h>
 #include <twinflow/sph/front.h>
@@ -324,53 +324,7 @@ namespace twinflow::sph
       summary.set_wall_time(result.wall_time);
       for (const auto &[k, v] : result.timings)
         summary.set_timer_section(k, v, result.steps - start.steps);
-      if (!scene.reference_front_file.empty())
-      {
-        // Martin & Moyce scaling: t = T / sqrt(2 g / a), x_f = Z a.
-        const double a     = scene.reference_length;
-        const double g     = std::sqrt(scene.gravity[0] * scene.gravity[0] + scene.gravity[1] * scene.gravity[1] +
-                                       scene.gravity[2] * scene.gravity[2]);
-        const auto   ref   = io::ReferenceSeries::from_csv(scene.reference_front_file, "T", "Z",
-                                                           1.0 / std::sqrt(2 * g / a), a);
-        const auto   error = io::compare_series(front_t, front_x, ref);
-        const double tau_max = scene.reference_front_time_uncertainty;
-        // With a time-origin uncertainty the checked error is the fitted one below and the raw
-        // error is reported beside it (no tolerance of its own).
-        summary.add_series_error("front position x_f(t)", error,
-                                 tau_max > 0 ? std::optional<double>() : std::optional<double>(0.05),
-                                 "Martin & Moyce (1952), n^2 = 2, raw table (time origin = instantaneous release)");
-        result.monitors["front rms relative error"] = error.rms_relative_error;
-        // The simulated times delayed by tau (t -> t + tau): the best tau on a grid of 0.005 in T.
-        // Diagnostic over [-0.5, 0.5] in T; the checked fit only over the admissible [0, tau_max].
-        const auto best_shift = [&](const double lo, const double hi) {
-          std::pair<double, io::SeriesError> best{0.0, error};
-          const double dT = 0.005 / std::sqrt(2 * g / a);
-          for (int k = int(std::ceil(lo / dT)); k * dT <= hi + 1e-15; ++k)
-          {
-            std::vector<double> shifted(front_t);
-            for (double &ti : shifted)
-              ti += k * dT;
-            const auto e = io::compare_series(shifted, front_x, ref);
-            if (e.n_samples >= error.n_samples && e.rms_relative_error < best.second.rms_relative_error)
-              best = {k * dT, e};
-          }
-          return best;
-        };
-        const double T1 = 0.5 / std::sqrt(2 * g / a);
-        const auto   diagnostic = best_shift(-T1, T1);
-        result.monitors["front rms relative error, best time shift"] = diagnostic.second.rms_relative_error;
-        result.monitors["front best time shift [s]"]                = diagnostic.first;
-        if (tau_max > 0)
-        {
-          const auto fitted = best_shift(0.0, tau_max);
-          summary.add_series_error("front position x_f(t), time origin fitted", fitted.second, 0.05,
-                                   "Martin & Moyce (1952), simulated times delayed by tau = " +
-                                     std::to_string(fitted.first) + " s, the best in [0, " + std::to_string(tau_max) +
-                                     "] s (References/Front time origin uncertainty)");
-          result.monitors["front rms relative error, time origin fitted"] = fitted.second.rms_relative_error;
-          result.monitors["front fitted time origin delay [s]"]          = fitted.first;
-        }
-      }
+      io::add_front_reference_errors(scene, front_t, front_x, summary, result.monitors);
       if (scene.reference_hydrostatic)
       {
         // Fluid at rest: final bulk pressure against rho |g| (H - dx/2 - y) (hydrostatic_check.h).
