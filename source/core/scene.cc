@@ -80,6 +80,11 @@ namespace twinflow
                         "Where results go (created; a method's files go to <dir>/<method>/).");
       prm.declare_entry("Output interval", "0", Patterns::Double(0),
                         "Simulated time between ParaView outputs [s]; 0 writes the final state only.");
+      prm.declare_entry("Snapshot times", "", Patterns::Anything(),
+                        "Comma-separated times [s], each in [0, End time], at which every method writes a "
+                        "snapshot CSV (<method>/snapshots/<method>_t<time>.csv: SPH particles, FEM level-set "
+                        "nodes) at its first step at or after the time; plotted as <Output directory>/plots/"
+                        "snapshot_t<time>.png. Empty: none.");
     }
     prm.leave_subsection();
 
@@ -190,6 +195,34 @@ namespace twinflow
       return std::nullopt;
     }
 
+    /// Scene/Snapshot times: comma-separated numbers in [0, End time], returned ascending.
+    std::vector<double> parse_snapshot_times(const std::string &text, const double end_time)
+    {
+      const std::string entry = "Scene/Snapshot times";
+      std::ostringstream range;
+      range << "[0, " << end_time << "] s (0 to Scene/End time)";
+      std::vector<double> times;
+      for (const auto &part : Utilities::split_string_list(text, ','))
+      {
+        double      t    = 0;
+        std::size_t used = 0;
+        try
+        {
+          t = std::stod(part, &used);
+        }
+        catch (const std::logic_error &)
+        {
+          used = 0;
+        }
+        require(used > 0 && used == part.size() && std::isfinite(t), entry, part,
+                "expected comma-separated times in " + range.str());
+        require(t >= 0 && t <= end_time, entry, part, "every snapshot time must lie in " + range.str());
+        times.push_back(t);
+      }
+      std::sort(times.begin(), times.end());
+      return times;
+    }
+
     Region parse_region(const std::string &text, const std::string &entry, int dim)
     {
       const auto halves = Utilities::split_string_list(text, ';');
@@ -220,6 +253,7 @@ namespace twinflow
     s.output_directory = prm.get("Output directory");
     require(!s.output_directory.empty(), "Scene/Output directory", "", "a directory path");
     s.output_interval = prm.get_double("Output interval");
+    s.snapshot_times  = parse_snapshot_times(prm.get("Snapshot times"), s.end_time);
     prm.leave_subsection();
 
     prm.enter_subsection("Domain");

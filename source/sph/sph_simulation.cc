@@ -7,11 +7,13 @@
 #include <twinflow/io/mpi_utils.h>
 #include <twinflow/io/particle_output.h>
 #include <twinflow/io/progress.h>
+#include <twinflow/io/snapshots.h>
 #include <twinflow/io/pvd_series.h>
 #include <twinflow/io/summary.h>
 #include <twinflow/sph/checkpoint.h>
 #include <twinflow/sph/front.h>
 #include <twinflow/sph/hydrostatic_check.h>
+#include <twinflow/sph/snapshot.h>
 #include <twinflow/sph/sph_simulation.h>
 
 #include <deal.II/base/mpi.h>
@@ -229,9 +231,17 @@ namespace twinflow::sph
         output_times.push_back(t);
       };
 
+      // Scene/Snapshot times (io/snapshots.h): P holds the state monitors() just read.
+      io::SnapshotSchedule snapshots(scene.snapshot_times, start.time, restart);
+      auto snapshot = [&](double t) {
+        for (const double s : snapshots.due(t))
+          write_snapshot<dim>(dir + "/snapshots/" + io::snapshot_file_name("sph", s), P, s, t, result.steps);
+      };
+
       if (!restart)
       {
         monitors(0, 0, nullptr);
+        snapshot(0);
         write(0);
       }
       io::ProgressReporter progress(start.time, scene.end_time, std::cout, self, 2.0);
@@ -291,6 +301,7 @@ namespace twinflow::sph
         }
         dealii::Timer out_timer;
         monitors(t, dt, &r);
+        snapshot(t);
         if (scene.output_interval > 0 && t >= next_output * (1 - 1e-9))
         {
           write(t);

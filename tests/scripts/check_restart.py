@@ -9,6 +9,10 @@ from that checkpoint into itself. The engine's whole state is x, u and p (the pr
 start), so B must reproduce A exactly: every monitor row (written with 12 digits), the ParaView
 series and the summary's monitor values. Also checks that a restart with another particle
 spacing is refused with an input error naming the entry.
+
+Snapshots (Scene/Snapshot times, two before and two after the checkpoint): B does not rewrite
+the ones written before the restart time (a marker put into one survives) and writes the later
+ones (removed from the copy) exactly as A did.
 """
 import json
 import os
@@ -43,13 +47,37 @@ def run(twinflow, prm, out):
     return r.returncode, r.stdout + r.stderr
 
 
+SNAPSHOTS = "subsection Scene\n  set Snapshot times = 0, 0.05, 0.15, 0.18\nend\n"
+SNAPSHOT_MARKER = "# marker put by check_restart.py: a restart must not rewrite this snapshot\n"
+
+
+def check_snapshots(a_dir, b_dir, t0):
+    """Snapshots before the restart time t0 kept (marker intact), later ones as in run A."""
+    a_snap, b_snap = (os.path.join(d, "sph", "snapshots") for d in (a_dir, b_dir))
+    names = sorted(os.listdir(a_snap))
+    ok = names == ["sph_t0.000.csv", "sph_t0.050.csv", "sph_t0.150.csv", "sph_t0.180.csv"]
+    print(f"{'ok' if ok else 'FAIL':5s} run A snapshots: {names}")
+    for name in names:
+        t = float(name[len("sph_t"):-len(".csv")])
+        a, b = (open(os.path.join(d, name)).read() if os.path.exists(os.path.join(d, name)) else None
+                for d in (a_snap, b_snap))
+        if t <= t0:
+            same = b == SNAPSHOT_MARKER if name == "sph_t0.050.csv" else b == a
+            print(f"{'ok' if same else 'FAIL':5s} {name} (before the restart): {'kept' if same else 'rewritten'}")
+        else:
+            same = b == a
+            print(f"{'ok' if same else 'FAIL':5s} {name} (after the restart): {'as run A' if same else 'different'}")
+        ok = ok and same
+    return ok
+
+
 def main():
     twinflow, scene, work, interval = sys.argv[1], sys.argv[2], sys.argv[3], float(sys.argv[4])
     shutil.rmtree(work, ignore_errors=True)
     os.makedirs(work)
     a_dir, b_dir = os.path.join(work, "a"), os.path.join(work, "b")
     prm_a, prm_b, prm_bad = (os.path.join(work, n) for n in ("a.prm", "b.prm", "bad.prm"))
-    derived_scene(scene, prm_a, f"subsection SPH\n  set Checkpoint interval = {interval}\nend\n")
+    derived_scene(scene, prm_a, f"subsection SPH\n  set Checkpoint interval = {interval}\nend\n" + SNAPSHOTS)
     rc, log = run(twinflow, prm_a, a_dir)
     if rc != 0:
         return fail("run A failed", log)
@@ -58,7 +86,12 @@ def main():
         return fail("run A wrote no checkpoint.bin")
     shutil.copytree(a_dir, b_dir)
     os.remove(os.path.join(b_dir, "sph", "summary.json"))
-    derived_scene(scene, prm_b, f"subsection SPH\n  set Restart file = {os.path.join(b_dir, 'sph', 'checkpoint.bin')}\nend\n")
+    b_snap = os.path.join(b_dir, "sph", "snapshots")
+    open(os.path.join(b_snap, "sph_t0.050.csv"), "w").write(SNAPSHOT_MARKER)
+    for name in ("sph_t0.150.csv", "sph_t0.180.csv"):
+        os.remove(os.path.join(b_snap, name))
+    derived_scene(scene, prm_b,
+                  f"subsection SPH\n  set Restart file = {os.path.join(b_dir, 'sph', 'checkpoint.bin')}\nend\n" + SNAPSHOTS)
     rc, log = run(twinflow, prm_b, b_dir)
     if rc != 0:
         return fail("run B (restart) failed", log)
@@ -85,6 +118,7 @@ def main():
     diff = [k for k in ma if not (isinstance(mb.get(k), float) and abs(ma[k] - mb[k]) <= 1e-9 * max(abs(ma[k]), 1e-300))]
     print(f"{'ok' if not diff else 'FAIL':5s} summary monitors: {len(ma)} values agree to 1e-9, different: {diff}")
     ok = ok and not diff and len(ma) > 0
+    ok = check_snapshots(a_dir, b_dir, t0) and ok
 
     # Another spacing: a clear input error, and the run's results stay as they are.
     spacing = float(re.search(r"set\s+Particle spacing\s*=\s*(\S+)", open(scene).read()).group(1)) * 5 / 6

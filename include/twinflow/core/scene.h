@@ -53,6 +53,8 @@ namespace twinflow
     double              end_time        = 1;
     std::string         output_directory;
     double              output_interval = 0;   ///< 0: write the final state only
+    /// Scene/Snapshot times: ascending, each in [0, end_time] (io/snapshots.h); empty: none.
+    std::vector<double> snapshot_times;
 
     // Domain
     std::string         geometry = "box";   ///< box | channel with cylinder
