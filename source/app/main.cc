@@ -287,6 +287,11 @@ one folder per case, a table and error-against-cost plots): scripts/study.py --h
       return 0;
     }
     const std::string dir = scene.output_directory + "/fem";
+    // Plots are optional: a missing python or matplotlib gives a warning, never an error.
+    const auto snapshot_plots = [&] {
+      if (!scene.snapshot_times.empty())
+        io::make_snapshot_plots(scene.output_directory);
+    };
     if (scene.wants(Method::sph))
     {
       const std::string sph_dir = scene.output_directory + "/sph";
@@ -294,6 +299,7 @@ one folder per case, a table and error-against-cost plots): scripts/study.py --h
       if (!scene.wants(Method::fem))
       {
         io::make_monitor_plots({sph_dir}, plot_arguments(scene));
+        snapshot_plots();
         return 0;
       }
     }
@@ -302,6 +308,7 @@ one folder per case, a table and error-against-cost plots): scripts/study.py --h
       io::make_monitor_plots({dir, scene.output_directory + "/sph"}, plot_arguments(scene));
     else
       io::make_monitor_plots({dir}, plot_arguments(scene));
+    snapshot_plots();
     return 0;
   }
 } // namespace

@@ -1,6 +1,7 @@
 /**
  * @file plots.cc
- * Implementation of make_plots(): runs scripts/plot_monitors.py via std::system.
+ * Implementation of make_plots() and make_snapshot_plots(): run scripts/plot_monitors.py and
+ * scripts/plot_snapshots.py via std::system.
  */
 #include <twinflow/io/mpi_utils.h>
 #include <twinflow/io/plots.h>
@@ -42,6 +43,12 @@ namespace twinflow::io
   std::string
   plot_script_path()
   {
+    return script_path("plot_monitors.py");
+  }
+
+  std::string
+  script_path(const std::string &name)
+  {
     std::vector<std::string> candidates;
     if (const char *env = std::getenv("TWINFLOW_SOURCE_DIR"); env && *env)
       candidates.emplace_back(env);
@@ -50,7 +57,7 @@ namespace twinflow::io
 #endif
     for (const auto &dir : candidates)
       {
-        const auto script = std::filesystem::path(dir) / "scripts" / "plot_monitors.py";
+        const auto script = std::filesystem::path(dir) / "scripts" / name;
         std::error_code ec;
         if (std::filesystem::is_regular_file(script, ec))
           return script.string();
@@ -58,40 +65,56 @@ namespace twinflow::io
     return "";
   }
 
+  namespace
+  {
+    /// Runs scripts/@p name with @p arguments (rank 0 of @p comm only); false after a warning
+    /// if the script, the interpreter or matplotlib is missing or the script fails.
+    bool
+    run_plot_script(const std::string &name, const std::vector<std::string> &arguments, MPI_Comm comm)
+    {
+      if (!is_root_process(comm))
+        return true;
+      const std::string python = python_interpreter();
+      const std::string script = script_path(name);
+      if (script.empty())
+        {
+          warn("scripts/" + name + " not found (TWINFLOW_SOURCE_DIR not set or wrong)");
+          return false;
+        }
+      const std::string probe = shell_quote(python) + " -c 'import matplotlib' >/dev/null 2>&1";
+      if (std::system(probe.c_str()) != 0)
+        {
+          warn(python + " with matplotlib is not available (Debian: apt-get install "
+                        "python3-matplotlib)");
+          return false;
+        }
+      std::string command = shell_quote(python) + " " + shell_quote(script);
+      for (const auto &a : arguments)
+        command += " " + shell_quote(a);
+      const int status = std::system(command.c_str());
+      if (status != 0)
+        {
+          warn("'" + command + "' failed (status " + std::to_string(status) + ")");
+          return false;
+        }
+      return true;
+    }
+  } // namespace
+
   bool
   make_monitor_plots(const std::vector<std::string> &directories,
              const std::vector<std::string> &extra_arguments,
              MPI_Comm                        comm)
   {
-    if (!is_root_process(comm))
-      return true;
-    const std::string python = python_interpreter();
-    const std::string script = plot_script_path();
-    if (script.empty())
-      {
-        warn("scripts/plot_monitors.py not found (TWINFLOW_SOURCE_DIR not set or wrong)");
-        return false;
-      }
-    const std::string probe =
-      shell_quote(python) + " -c 'import matplotlib' >/dev/null 2>&1";
-    if (std::system(probe.c_str()) != 0)
-      {
-        warn(python + " with matplotlib is not available (Debian: apt-get install "
-                      "python3-matplotlib)");
-        return false;
-      }
-    std::string command = shell_quote(python) + " " + shell_quote(script);
-    for (const auto &d : directories)
-      command += " " + shell_quote(d);
-    for (const auto &a : extra_arguments)
-      command += " " + shell_quote(a);
-    const int status = std::system(command.c_str());
-    if (status != 0)
-      {
-        warn("'" + command + "' failed (status " + std::to_string(status) + ")");
-        return false;
-      }
-    return true;
+    std::vector<std::string> arguments(directories);
+    arguments.insert(arguments.end(), extra_arguments.begin(), extra_arguments.end());
+    return run_plot_script("plot_monitors.py", arguments, comm);
+  }
+
+  bool
+  make_snapshot_plots(const std::string &run_dir, MPI_Comm comm)
+  {
+    return run_plot_script("plot_snapshots.py", {run_dir}, comm);
   }
 
   bool

@@ -2,9 +2,10 @@
 /**
  * @file plots.h
  * PNG plots of the monitor CSV files of a run, drawn by
- * `scripts/plot_monitors.py` (Python 3 + matplotlib) at the end of a run.
+ * `scripts/plot_monitors.py` (Python 3 + matplotlib) at the end of a run, and of its
+ * snapshots (`scripts/plot_snapshots.py`).
  *
- * The script is found through the compile definition TWINFLOW_SOURCE_DIR
+ * The scripts are found through the compile definition TWINFLOW_SOURCE_DIR
  * (set for twinflow_lib in the top-level CMakeLists.txt) or, if set, the
  * environment variable TWINFLOW_SOURCE_DIR. The interpreter is
  * /usr/bin/python3 unless the environment variable TWINFLOW_PYTHON names
@@ -39,9 +40,23 @@ namespace twinflow::io
              const std::vector<std::string> &extra_arguments = {},
              MPI_Comm                        comm            = MPI_COMM_WORLD);
 
+  /**
+   * Draw the snapshots of the run in @p run_dir (Scene/Snapshot times: the files
+   * `fem/snapshots/fem_t<time>.csv` and `sph/snapshots/sph_t<time>.csv`) with
+   * `scripts/plot_snapshots.py`: one `<run_dir>/plots/snapshot_t<time>.png` per time (FEM
+   * water region above the SPH particles), with a JSON beside it listing what was drawn.
+   * Rank 0 of @p comm only; false (after a warning) if the plots could not be made.
+   */
+  bool
+  make_snapshot_plots(const std::string &run_dir, MPI_Comm comm = MPI_COMM_WORLD);
+
   /// Path of plot_monitors.py, or "" if it cannot be found.
   std::string
   plot_script_path();
+
+  /// Path of scripts/@p name (found as plot_monitors.py is), or "" if it cannot be found.
+  std::string
+  script_path(const std::string &name);
 
   /// @p s quoted for a POSIX shell (single quotes).
   std::string
