@@ -32,6 +32,9 @@ namespace twinflow::fem
     prm.enter_subsection("Immersed boundary");
     ImmersedBoundaryParameters::declare(prm);
     prm.leave_subsection();
+    prm.enter_subsection("Level set");
+    LevelSetParameters::declare(prm);
+    prm.leave_subsection();
     prm.leave_subsection();
   }
 
@@ -53,6 +56,9 @@ namespace twinflow::fem
     prm.leave_subsection();
     prm.enter_subsection("Immersed boundary");
     immersed_boundary.parse(prm);
+    prm.leave_subsection();
+    prm.enter_subsection("Level set");
+    level_set.parse(prm);
     prm.leave_subsection();
     prm.leave_subsection();
   }

@@ -153,25 +153,53 @@ namespace twinflow::fem
   template <int dim>
   void FemSimulation<dim>::compose()
   {
-    if (scene.has_free_surface())
-      throw InputError("Fluids/Number of fluids = 2: the FEM two-phase module (conservative level set, "
-                       "Algorithm 1) is not available yet; allowed with FEM now: 1 fluid.");
     body_fitted = scene.geometry == "channel with cylinder" || scene.geometry == "box with cylinder";
     for (const auto &s : scene.solids)
       if (s.motion != SolidMotion::fixed)
         throw InputError("Solids/" + s.name + "/Motion: moving solids (rigid body, ANCF) are not available in the "
                          "FEM yet; allowed now: fixed");
-    const Fluid &fluid = scene.fluids.front();
-    material = std::make_unique<ConstantMaterial<dim>>(fluid.density, fluid.viscosity);
+    const bool free_surface = scene.has_free_surface();
+    if (free_surface)
+      compose_free_surface(); // the level-set space and the two-phase material
+    else
+      material = std::make_unique<ConstantMaterial<dim>>(scene.fluids.front().density, scene.fluids.front().viscosity);
     NavierStokesParameters nsp = prm.navier_stokes;
     if (nsp.mapping_degree == 0)
       nsp.mapping_degree = body_fitted ? nsp.velocity_degree : 1;
     navier_stokes = std::make_unique<NavierStokes<dim>>(tria, nsp, *material);
-    physics.push_back(navier_stokes.get());
+    if (free_surface)
+    {
+      // Algorithm 1 in the order of the list: Navier–Stokes, NCLS, VOF, redistancing, mass
+      // correction; the space first (it distributes the level-set DoFs).
+      std::set<types::boundary_id> open;
+      for (unsigned int f = 0; f < 2 * dim; ++f)
+        if (scene.boundary[f] == BoundaryKind::outflow)
+          open.insert(face_id[f]);
+      ncls       = std::make_unique<NclsTransport<dim>>(*ls_space, *navier_stokes);
+      vof        = std::make_unique<VofTransport<dim>>(*ls_space, *navier_stokes, open);
+      redistance = std::make_unique<Redistancing<dim>>(*ls_space, *ncls);
+      correction = std::make_unique<MassCorrection<dim>>(*ls_space, *ncls, *vof);
+      static_cast<TwoPhaseMaterial<dim> &>(*material).attach(*ncls);
+      ls_space->attach(*ncls);
+      physics = {ls_space.get(), navier_stokes.get(), ncls.get(), vof.get(), redistance.get(), correction.get()};
+    }
+    else
+      physics.push_back(navier_stokes.get());
 
     std::vector<std::string> &active = result.active_physics;
-    std::vector<std::string>  idle{"level set", "rigid body", "ANCF"};
-    active.push_back("navier-stokes (single phase, constant density)");
+    std::vector<std::string>  idle{"rigid body", "ANCF"};
+    if (free_surface)
+    {
+      active.push_back("navier-stokes (two phases, variable density)");
+      active.push_back("level set (Q" + std::to_string(prm.level_set.degree) + ": NCLS, VOF, " +
+                       (prm.level_set.redistance ? "redistancing, " : "") +
+                       (prm.level_set.mass_correction ? "mass correction" : "no mass correction") + ")");
+    }
+    else
+    {
+      active.push_back("navier-stokes (single phase, constant density)");
+      idle.insert(idle.begin(), "level set");
+    }
     if (body_fitted)
       active.push_back("body-fitted fixed cylinder");
     if (scene.has_solids() && !body_fitted)
@@ -182,7 +210,7 @@ namespace twinflow::fem
     }
     else
       idle.insert(idle.begin(), "immersed boundary");
-    const bool interfaces = ibm != nullptr;
+    const bool interfaces = ibm != nullptr || free_surface;
     if (ibm && prm.adaptation.enabled() && prm.immersed_boundary.interface_width > prm.adaptation.band_width)
       throw InputError("FEM/Mesh adaptation/Band width = " + std::to_string(prm.adaptation.band_width) +
                        ": the band must cover the smoothed solid interface (FEM/Immersed boundary/Interface width = " +
@@ -193,7 +221,7 @@ namespace twinflow::fem
                        "without extension)");
     if (prm.adaptation.enabled() && (interfaces || prm.adaptation.kelly_threshold > 0))
       active.push_back(std::string("mesh adaptation (levels ") + std::to_string(prm.adaptation.minimum_level) + "-" +
-                       std::to_string(prm.adaptation.maximum_level) + (interfaces ? ", band at phi_s = 0" : "") +
+                       std::to_string(prm.adaptation.maximum_level) + (ibm ? ", band at phi_s = 0" : "") + (free_surface ? ", band at phi = 0" : "") +
                        (prm.adaptation.kelly_threshold > 0 ? ", Kelly" : "") + ")");
     else
       idle.insert(idle.begin(), "mesh adaptation");
@@ -256,7 +284,11 @@ namespace twinflow::fem
           break;
         case BoundaryKind::periodic:
           if (!periodic_set[axis])
+          {
             ns.set_periodic(face_id[2 * axis], face_id[2 * axis + 1], axis);
+            if (ls_space)
+              ls_space->set_periodic(face_id[2 * axis], face_id[2 * axis + 1], axis);
+          }
           periodic_set[axis] = true;
           break;
       }
@@ -295,12 +327,14 @@ namespace twinflow::fem
   {
     make_coarse_mesh();
     set_boundary_conditions();
-    if (prm.adaptation.enabled() && (ibm || prm.adaptation.kelly_threshold > 0))
+    if (prm.adaptation.enabled() && (ibm || ls_space || prm.adaptation.kelly_threshold > 0))
     {
       adaptation = std::make_unique<MeshAdaptation<dim>>(tria, prm.adaptation);
       if (ibm)
         for (auto &s : ibm->solids())
           adaptation->register_interface(*s);
+      if (ls_space)
+        adaptation->register_interface(*ls_space);
     }
     if (!prm.restart_file.empty())
     {
@@ -311,9 +345,19 @@ namespace twinflow::fem
     for (auto *p : physics)
       p->setup_dofs();
     // Initial state: the undisturbed inflow (if any) everywhere, hydrostatic pressure.
-    Functions::ZeroFunction<dim>       zero(dim);
-    internal::HydrostaticPressure<dim> p0(scene.fluids.front().density, scene.gravity);
-    navier_stokes->initialize(inflow ? *inflow : static_cast<const Function<dim> &>(zero), p0, 0.0);
+    Functions::ZeroFunction<dim>                   zero(dim);
+    std::unique_ptr<Function<dim>>                 p0;
+    if (ls_space)
+    {
+      // ε of the finest cells (those at the interface).
+      const double h = navier_stokes->minimal_cell_diameter() / std::sqrt(double(dim));
+      p0 = std::make_unique<internal::TwoPhaseHydrostatic<dim>>(scene, two_fluids, vertical_axis, initial_water_distance,
+                                                                prm.level_set.interface_width * h);
+      initialize_free_surface();
+    }
+    else
+      p0 = std::make_unique<internal::HydrostaticPressure<dim>>(scene.fluids.front().density, scene.gravity);
+    navier_stokes->initialize(inflow ? *inflow : static_cast<const Function<dim> &>(zero), *p0, 0.0);
   }
 
   template <int dim>
@@ -374,13 +418,22 @@ namespace twinflow::fem
     bool steady = false;
     if (scene.output_interval > 0 && ns.n_steps() == 0)
       write_output();
+    if (ls_space && ns.n_steps() == 0)
+      record_free_surface(0, 0);
     if (prm.checkpoint_interval > 0)
       next_checkpoint = (std::floor(t0 / prm.checkpoint_interval + 1e-9) + 1) * prm.checkpoint_interval;
     while (ns.time() < scene.end_time * (1 - 1e-12) && !steady)
     {
       const double dt = next_time_step();
+      if (dt < 1e-6 * prm.time_step && scene.end_time - ns.time() > 1e-6 * prm.time_step)
+        throw std::runtime_error("FEM solution diverged at t = " + std::to_string(ns.time()) + " (step " +
+                                 std::to_string(ns.n_steps()) + "): the CFL step fell to " + std::to_string(dt) +
+                                 " s (max |u| = " + std::to_string(ns.max_velocity()) +
+                                 " m/s); reduce FEM/CFL number or refine. Monitors written so far are kept in " + dir);
       for (auto *p : physics)
         p->advance(dt);
+      if (ls_space)
+        ls_space->add_travel(ns.max_velocity() * dt); // the surface moved at most this far
       const StepStatistics &st = ns.statistics();
       if (!std::isfinite(st.divergence_l2) || !std::isfinite(st.velocity_change))
         throw std::runtime_error("FEM solution diverged at t = " + std::to_string(ns.time()) + " (step " +
@@ -407,6 +460,8 @@ namespace twinflow::fem
             << rate;
       if (adaptation)
         extra << "  cells " << tria.n_global_active_cells();
+      if (ls_space)
+        extra << "  volume drift " << result.monitors["water volume drift (max)"];
       progress.update(ns.time(), ns.n_steps(), extra.str());
     }
     progress.finish(steady ? "steady state reached" : "");

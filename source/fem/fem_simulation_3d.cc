@@ -1,4 +1,5 @@
 // Explicit instantiation of FemSimulation<3>.
+#include "fem_simulation_free_surface.templates.h"
 #include "fem_simulation.templates.h"
 #include "fem_simulation_io.templates.h"
 

@@ -59,7 +59,19 @@ namespace twinflow::fem
       if (scene.pressure_probes.size() >= 2) { cols.push_back("dp"); units.push_back("Pa"); }
       probes_csv = open("pressure_probes.csv", cols, units, "pressure probes");
     }
-    if (scene.monitors_contain("energy"))
+    if (ls_space)
+    {
+      // Free surface: the water's energies (as the SPH writes them) and the system's (both
+      // phases); the front; the water volume and what the mass correction did.
+      energy_csv = open("energy.csv",
+                        {"time", "kinetic energy", "potential energy", "total energy", "system energy", "divergence L2",
+                         "dt", "cells"},
+                        {"s", "J", "J", "J", "J", "1/s", "s", "-"}, "energy");
+      front_csv  = open("front.csv", {"time", "x_front", "max speed", "x_foremost"}, {"s", "m", "m/s", "m"}, "front");
+      volume_csv = open("volume.csv", {"time", "water volume", "relative drift", "max correction", "newton iterations"},
+                        {"s", "m^dim", "-", "m", "-"}, "volume");
+    }
+    else if (scene.monitors_contain("energy"))
       energy_csv = open("energy.csv", {"time", "kinetic energy", "divergence L2", "dt", "cells"},
                         {"s", "J", "1/s", "s", "-"}, "energy");
     pvd = std::make_unique<io::PvdSeries>(dir, "solution", comm);
@@ -113,7 +125,9 @@ namespace twinflow::fem
       }
       probes_csv->append(row);
     }
-    if (energy_csv)
+    if (ls_space)
+      record_free_surface(dt, divergence);
+    else if (energy_csv)
     {
       const double e = ns.kinetic_energy();
       energy_csv->append({t, e, divergence, dt, double(tria.n_global_active_cells())});
@@ -222,6 +236,15 @@ namespace twinflow::fem
     summary.set_final_time(result.final_time);
     summary.set_wall_time(result.wall_time);
     summary.set_timer_sections(ns.timer());
+    if (ls_space)
+    {
+      summary.set_timer_sections(ls_space->timer());
+      summary.set_dofs("level set", ls_space->n_dofs());
+      summary.add_error("water volume drift (max over the run)", worst_volume_drift, 0.0, 1e-3,
+                        "relative to the initial water volume int (1 - H_eps(phi))");
+      summary.add_error("energy rise above the initial value (max over the run)", worst_energy_rise, 0.0, 5e-3,
+                        "kinetic + potential energy of both phases; a dam break is dissipative");
+    }
     summary.set_monitor_values(result.monitors);
     summary.set_extra("active physics", internal::join(result.active_physics, "; "));
     summary.set_extra("mpi ranks", Utilities::MPI::n_mpi_processes(comm));

@@ -68,10 +68,9 @@ namespace twinflow::fem
   template <int dim>
   bool MeshAdaptation<dim>::in_band(const typename Triangulation<dim>::active_cell_iterator &cell) const
   {
-    const Point<dim> x      = cell->center();
-    const double     reach  = 0.5 * cell->diameter() + band_half_width();
+    const double reach = 0.5 * cell->diameter() + band_half_width();
     for (const auto *i : tracked)
-      if (std::abs(i->distance(x)) < reach)
+      if (std::abs(i->cell_distance(cell)) < reach)
         return true;
     return false;
   }

@@ -273,7 +273,7 @@ namespace twinflow::fem
     const unsigned int  nq = quad.size();
     const FEValuesExtractors::Vector vel(0);
     const bool symmetric = prm.viscous_form == ViscousForm::symmetric;
-    const bool constant  = material.is_constant();
+    const bool constant  = material.is_constant() || material.advected_density();
 
     FullMatrix<double>                   cell_matrix(n, n);
     Vector<double>                       cell_rhs(n);
@@ -312,6 +312,7 @@ namespace twinflow::fem
       if (force_density) force_density->vector_value_list(fev.get_quadrature_points(), f_val);
       for (unsigned int q = 0; q < nq; ++q)
         u_star[q] = c.e0 * un[q] + c.e1 * unm1[q];
+      const double h_cell = cell->diameter() / std::sqrt(double(dim)) / fe_velocity.degree;
 
       // Other physics' terms on this cell (IBM, ...) and the fluid fraction they leave.
       const MomentumCell<dim> term_cell{cell, fev, comp, u_star, mat, symmetric, t_new, dt};
@@ -343,6 +344,12 @@ namespace twinflow::fem
           if (force_density) rhs[d] += w * f_val[q](d);
         }
         const double p_sharp = p_val[q] + pressure_w1 * phi_val[q] + pressure_w2 * phim_val[q];
+        // Streamline diffusion: c τ ρ (u*·∇ũ)(u*·∇v), τ = (4/τ² + 4|u*|²/h²)^{-1/2}.
+        const double speed = u_star[q].norm();
+        const double sd    = prm.streamline_diffusion > 0
+                               ? prm.streamline_diffusion * rho /
+                                   std::sqrt(4.0 / (dt * dt) + 4.0 * speed * speed / (h_cell * h_cell))
+                               : 0.0;
         for (unsigned int i = 0; i < n; ++i)
         {
           s[i]  = fev.shape_value(i, q);
@@ -355,7 +362,8 @@ namespace twinflow::fem
           {
             double a = 0;
             if (ci == comp[j])
-              a = (mass * s[j] + rho * (u_star[q] * ds[j])) * s[i] + mu * (ds[i] * ds[j]);
+              a = (mass * s[j] + rho * (u_star[q] * ds[j])) * s[i] + mu * (ds[i] * ds[j]) +
+                  sd * (u_star[q] * ds[j]) * (u_star[q] * ds[i]);
             if (symmetric)
               a += mu * ds[i][comp[j]] * ds[j][ci];
             cell_matrix(i, j) += a * JxW;
@@ -420,16 +428,26 @@ namespace twinflow::fem
   template <int dim>
   unsigned int NavierStokes<dim>::solve_pressure_increment(const double dt, const BdfCoefficients &c)
   {
+    // Constant ρ or Guermond–Salgado (χ = ρ_min): −Δφ = −(α0 χ/τ) ∇·ũ with the Laplacian of
+    // the mesh. A density carried by the flow (two phases, up to 1000:1): the variable-
+    // coefficient form −∇·(ρ̄⁻¹∇φ) = −(α0/τ) ∇·ũ, rebuilt every step, so that the pressure
+    // changes where the fluid is heavy (with χ = ρ_air the water's pressure would adapt at
+    // ρ_air/ρ_water of the rate it needs and the light side of the interface run away).
+    const bool variable = prm.variable_projection && !material.is_constant();
     pressure_rhs = 0;
     const QGauss<dim>  quad(fe_velocity.degree + 1);
-    FEValues<dim>      fev(mapping, fe_velocity, quad, update_gradients);
-    FEValues<dim>      fep(mapping, fe_pressure, quad, update_values | update_JxW_values);
+    FEValues<dim>      fev(mapping, fe_velocity, quad, update_gradients | update_quadrature_points);
+    FEValues<dim>      fep(mapping, fe_pressure, quad, update_values | update_gradients | update_JxW_values);
     const unsigned int n = fe_pressure.n_dofs_per_cell();
     Vector<double>     cell_rhs(n);
+    FullMatrix<double> cell_matrix(n, n);
     std::vector<double> div_u(quad.size());
     std::vector<types::global_dof_index> indices(n);
     const FEValuesExtractors::Vector vel(0);
-    const double factor = -c.a0 * material.minimum_density() / dt;
+    MaterialValues<dim> mat;
+    const double factor = variable ? -c.a0 / dt : -c.a0 * material.minimum_density() / dt;
+    if (variable)
+      pressure_laplace = 0;
     double div_sq = 0;
     for (const auto &cell : pressure_dofs.active_cell_iterators())
       if (cell->is_locally_owned())
@@ -438,17 +456,37 @@ namespace twinflow::fem
         const typename DoFHandler<dim>::active_cell_iterator vcell(&tria, cell->level(), cell->index(), &velocity_dofs);
         fev.reinit(vcell);
         fev[vel].get_function_divergences(u_n, div_u);
-        cell_rhs = 0;
+        cell_rhs    = 0;
+        cell_matrix = 0;
+        if (variable)
+          material.evaluate(vcell, fev.get_quadrature_points(), current_time + dt, mat);
         for (unsigned int q = 0; q < quad.size(); ++q)
         {
           div_sq += div_u[q] * div_u[q] * fep.JxW(q);
           for (unsigned int i = 0; i < n; ++i)
             cell_rhs(i) += factor * div_u[q] * fep.shape_value(i, q) * fep.JxW(q);
+          if (variable)
+            for (unsigned int i = 0; i < n; ++i)
+              for (unsigned int j = 0; j < n; ++j)
+                cell_matrix(i, j) += fep.shape_grad(i, q) * fep.shape_grad(j, q) / mat.density[q] * fep.JxW(q);
         }
         cell->get_dof_indices(indices);
-        increment_constraints.distribute_local_to_global(cell_rhs, indices, pressure_rhs);
+        if (variable)
+          increment_constraints.distribute_local_to_global(cell_matrix, cell_rhs, indices, pressure_laplace, pressure_rhs);
+        else
+          increment_constraints.distribute_local_to_global(cell_rhs, indices, pressure_rhs);
       }
     pressure_rhs.compress(VectorOperation::add);
+    if (variable)
+    {
+      pressure_laplace.compress(VectorOperation::add);
+      TrilinosWrappers::PreconditionAMG::AdditionalData amg;
+      amg.elliptic              = true;
+      amg.higher_order_elements = fe_pressure.degree > 1;
+      amg.smoother_sweeps       = 2;
+      amg.aggregation_threshold = 0.02;
+      pressure_amg.initialize(pressure_laplace, amg);
+    }
     stats.divergence_l2 = std::sqrt(Utilities::MPI::sum(div_sq, comm));
 
     TrilinosWrappers::MPI::Vector phi(pressure_owned, comm);

@@ -20,6 +20,15 @@ namespace twinflow::fem
                       "Relative residual reduction of every Krylov solve.");
     prm.declare_entry("AMG rebuild interval", "1", Integer(1, 1000),
                       "Rebuild the velocity preconditioner every n steps (it is reused in between).");
+    prm.declare_entry("Pressure projection", "minimum density", Selection("minimum density|variable density"),
+                      "Pressure increment of a variable density: -Lap(phi) = -(a0 rho_min/dt) div u (Guermond & "
+                      "Salgado 2009, the paper's Eq. 16; mesh-only matrix) or -div(grad(phi)/rho) = -(a0/dt) div u "
+                      "(matrix rebuilt every step).");
+    prm.declare_entry("Streamline diffusion", "0", Double(0, 10),
+                      "c of the streamline-diffusion stabilisation of the convection term, "
+                      "c tau_K rho (u*.grad u)(u*.grad v) with tau_K = (4/dt^2 + 4|u*|^2/h_K^2)^(-1/2) (adds at most "
+                      "c rho h |u| / 2 along streamlines; 0: Galerkin). Free-surface scenes need it: the air "
+                      "(rho 1.2, mu 1.8e-5) has cell Reynolds numbers of 1e3 and more.");
     prm.declare_entry("Velocity preconditioner", "amg", Selection("amg|ilu"),
                       "Preconditioner of the velocity GMRES: Trilinos ML AMG (Gauss-Seidel smoothing) or ILU(0).");
   }
@@ -33,6 +42,8 @@ namespace twinflow::fem
     linear_tolerance     = prm.get_double("Linear solver tolerance");
     amg_rebuild_interval = prm.get_integer("AMG rebuild interval");
     velocity_preconditioner = prm.get("Velocity preconditioner");
+    streamline_diffusion    = prm.get_double("Streamline diffusion");
+    variable_projection     = prm.get("Pressure projection") == "variable density";
     const std::string md = prm.get("Mapping degree");
     if (md == "auto")
       mapping_degree = 0; // resolved by the simulation from the geometry

@@ -8,6 +8,7 @@
  */
 #include <twinflow/core/scene.h>
 #include <twinflow/fem/immersed_boundary.h>
+#include <twinflow/fem/level_set.h>
 #include <twinflow/fem/mesh_adaptation.h>
 #include <twinflow/fem/navier_stokes.h>
 
@@ -40,6 +41,7 @@ namespace twinflow::fem
     NavierStokesParameters     navier_stokes;
     MeshAdaptationParameters   adaptation;
     ImmersedBoundaryParameters immersed_boundary;
+    LevelSetParameters         level_set;
 
     static void declare(dealii::ParameterHandler &prm);
     void        parse(dealii::ParameterHandler &prm);
@@ -80,6 +82,16 @@ namespace twinflow::fem
     const dealii::parallel::distributed::Triangulation<dim> &mesh() const { return tria; }
     const ImmersedBoundary<dim>                           *immersed_boundary() const { return ibm.get(); }
     const MeshAdaptation<dim>                             *mesh_adaptation() const { return adaptation.get(); }
+    /// The free surface (null without one): space, φ transport, θ transport, corrections.
+    const LevelSetSpace<dim>                              *level_set_space() const { return ls_space.get(); }
+    const NclsTransport<dim>                              *level_set() const { return ncls.get(); }
+    const VofTransport<dim>                               *volume_fraction() const { return vof.get(); }
+    Redistancing<dim>                                     *redistancing() { return redistance.get(); }
+    MassCorrection<dim>                                   *mass_correction() { return correction.get(); }
+    /// Water volume, fronts and energies now (collective; free surface only).
+    FreeSurfaceMeasures                                    free_surface_measures() const;
+    /// The physics in the order they advance.
+    const std::vector<FieldPhysics<dim> *>                &physics_list() const { return physics; }
     const std::vector<std::string>                        &active_physics() const { return result.active_physics; }
 
   private:
@@ -90,7 +102,10 @@ namespace twinflow::fem
     void load_checkpoint(const std::string &prefix);
     double next_time_step() const;
     void open_monitors();
+    void compose_free_surface();
+    void initialize_free_surface();
     void record(double dt, double divergence);
+    void record_free_surface(double dt, double divergence);
     void write_output();
     void write_summary();
 
@@ -106,10 +121,21 @@ namespace twinflow::fem
     std::unique_ptr<NavierStokes<dim>>                  navier_stokes;
     std::unique_ptr<ImmersedBoundary<dim>>              ibm;
     std::unique_ptr<MeshAdaptation<dim>>                adaptation;
+    std::unique_ptr<LevelSetSpace<dim>>                 ls_space;
+    std::unique_ptr<NclsTransport<dim>>                 ncls;
+    std::unique_ptr<VofTransport<dim>>                  vof;
+    std::unique_ptr<Redistancing<dim>>                  redistance;
+    std::unique_ptr<MassCorrection<dim>>                correction;
+    std::shared_ptr<dealii::Function<dim>>              initial_water_distance;
+    TwoFluids                                           two_fluids;
+    unsigned int                                        vertical_axis = 1;
     std::vector<FieldPhysics<dim> *>                    physics;
     std::shared_ptr<dealii::Function<dim>>              inflow;
 
-    std::unique_ptr<io::CsvMonitor> forces_csv, probes_csv, energy_csv;
+    std::unique_ptr<io::CsvMonitor> forces_csv, probes_csv, energy_csv, front_csv, volume_csv;
+    /// Free-surface history for the summary: initial volume and energy, worst drift and rise.
+    double initial_volume = 0, initial_energy = 0, worst_volume_drift = 0, worst_energy_rise = 0;
+    std::vector<double> front_time, front_position;
     std::unique_ptr<io::PvdSeries>  pvd;
     unsigned int                    output_count = 0;
     double                          next_output = 0, next_checkpoint = 0, coefficient_scale = 0;

@@ -56,6 +56,13 @@ namespace twinflow::fem
 
     /// True if ρ and μ are constants: the solver then skips the variable-density terms.
     virtual bool is_constant() const { return false; }
+
+    /// True if ρ is carried by the flow by construction (ρ = ρ(φ) with φ transported: Dρ/Dt = 0
+    /// holds up to the transport's error). The solver then omits ∂_tρ + u·∇ρ from the
+    /// skew-symmetric mass term ½[∂_tρ + ∇·(ρu*)]: across a 1000:1 interface of width 2ε the
+    /// lagged, discrete ∂_tρ and u*·∇ρ do not cancel and their sum (∼ρ_w|u|/ε) would dwarf
+    /// the air's ρ/τ and make the velocity matrix indefinite.
+    virtual bool advected_density() const { return false; }
   };
 
   /// One fluid: constant ρ and μ.

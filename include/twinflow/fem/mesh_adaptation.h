@@ -47,6 +47,12 @@ namespace twinflow::fem
     virtual std::string name() const = 0;
     /// Signed distance to the interface (only |φ| matters here).
     virtual double distance(const dealii::Point<dim> &x) const = 0;
+    /// Signed distance at the centre of a locally owned @p cell (fields that live on the mesh
+    /// answer it from their DoFs; the default evaluates distance() at the centre).
+    virtual double cell_distance(const typename dealii::Triangulation<dim>::active_cell_iterator &cell) const
+    {
+      return distance(cell->center());
+    }
     /// Largest displacement of the interface since the last call of mark_adapted() [m].
     virtual double displacement_since_adaptation() const { return 0; }
     /// The mesh was adapted to the current position.

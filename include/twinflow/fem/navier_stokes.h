@@ -53,6 +53,8 @@ namespace twinflow::fem
     double       linear_tolerance = 1e-10; ///< relative residual of every Krylov solve
     unsigned int amg_rebuild_interval = 1; ///< velocity preconditioner rebuilt every n steps
     std::string  velocity_preconditioner = "amg"; ///< amg | ilu
+    double       streamline_diffusion = 0;      ///< c of c τ_K ρ (u*·∇u)(u*·∇v); 0: Galerkin
+    bool         variable_projection  = false;  ///< −∇·(ρ⁻¹∇φ) instead of −χΔφ, χ = ρ_min
 
     static void declare(dealii::ParameterHandler &prm);
     void        parse(dealii::ParameterHandler &prm);
@@ -141,6 +143,9 @@ namespace twinflow::fem
     const dealii::DoFHandler<dim> &pressure_dof_handler() const { return pressure_dofs; }
     const dealii::TrilinosWrappers::MPI::Vector &velocity() const { return u_n; }
     const dealii::TrilinosWrappers::MPI::Vector &pressure() const { return p_n; }
+    /// u^n once a step has been taken (u^{n+1} is velocity()): the level-set transports use
+    /// the midpoint velocity of the step.
+    const dealii::TrilinosWrappers::MPI::Vector &previous_velocity() const { return u_nm1; }
     const dealii::Mapping<dim> &get_mapping() const { return mapping; }
     const dealii::TimerOutput &timer() const { return timer_output; }
     /// Viscous stress form of the momentum equation: true for 2με(u), false for μ∇u.

@@ -1,0 +1,330 @@
+#pragma once
+/**
+ * @file level_set.h
+ * Two phases by the conservative level set of the paper (Section 3.1, Algorithm 1; Kees et
+ * al. 2011): φ is the signed distance to the free surface, negative in water, positive in
+ * air; θ the air volume fraction. Per step, after Navier–Stokes (which used ρ(φⁿ), μ(φⁿ)):
+ *
+ *   NclsTransport   Eq. 7   ∂φ/∂t + u·∇φ = 0                   → φ*
+ *   VofTransport    Eq. 8   ∂θ/∂t + ∇·(uθ) = 0 (conservative)   → θ*
+ *   Redistancing    Eq. 14  steady state |∇φ| = 1, φ = 0 on Γ  → φ**
+ *   MassCorrection  Eq. 12  H_ε(φ** + u) − θ* = κ Δu (Newton)   → φ = φ** + u, θ = H_ε(φ)
+ *
+ * Each is a FieldPhysics (setup, transfer, advance, output, checkpoint) on the Q_k space of
+ * LevelSetSpace, which is itself the first physics of the list (it distributes the DoFs) and
+ * the AdaptationInterface of the free surface (the refinement band follows φ = 0).
+ * TwoPhaseMaterial hands ρ, μ (Eq. 9–10 with H_ε of Eq. 13, ε = factor × h_K), ∇ρ, ∂ρ/∂t to
+ * Navier–Stokes. A scene with one fluid constructs none of this.
+ */
+#include <twinflow/fem/field_physics.h>
+#include <twinflow/fem/material_model.h>
+#include <twinflow/fem/mesh_adaptation.h>
+#include <twinflow/fem/navier_stokes.h>
+
+#include <deal.II/base/conditional_ostream.h>
+#include <deal.II/base/function.h>
+#include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/timer.h>
+#include <deal.II/distributed/solution_transfer.h>
+#include <deal.II/distributed/tria.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/fe/fe_q.h>
+#include <deal.II/fe/fe_values.h>
+#include <deal.II/fe/mapping_q.h>
+#include <deal.II/lac/affine_constraints.h>
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
+#include <deal.II/lac/trilinos_precondition.h>
+#include <deal.II/lac/trilinos_sparse_matrix.h>
+#include <deal.II/lac/trilinos_vector.h>
+
+#include <map>
+#include <memory>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace twinflow::fem
+{
+  /// Parameters of subsection "FEM/Level set".
+  struct LevelSetParameters
+  {
+    unsigned int degree           = 1;    ///< Q_k of φ and θ
+    double       interface_width  = 1.5;  ///< ε / h_K of H_ε (Eq. 13); the paper: h < ε < 2h
+    double       shock_capturing  = 0.2;  ///< c_sc of the VOF shock-capturing viscosity
+    double       correction_diffusion = 10; ///< κ / h_K of the mass correction (Eq. 12)
+    double       correction_tolerance = 1e-10; ///< Newton: |∫H(φ+u) − ∫θ| / ∫1 below this
+    bool         redistance       = true; ///< Eq. 14 every step (false: never)
+    bool         mass_correction  = true; ///< Eq. 12 every step (false: θ and φ drift apart)
+    double       linear_tolerance = 1e-10;
+
+    static void declare(dealii::ParameterHandler &prm);
+    void        parse(dealii::ParameterHandler &prm);
+  };
+
+  /// Sign convention and the phase properties of Eq. 9–10.
+  struct TwoFluids
+  {
+    double rho_water = 1000, mu_water = 1e-3, rho_air = 1.2, mu_air = 1.8e-5;
+  };
+
+  template <int dim>
+  class NclsTransport;
+  template <int dim>
+  class VofTransport;
+
+  /**
+   * The finite-element space of φ and θ (Q_k on the flow's mesh): DoFs, hanging-node and
+   * periodicity constraints, the sparsity all level-set matrices share, the lumped mass.
+   * Also the free surface as an interface the mesh adaptation follows (|φ| at cell centres;
+   * before any field exists, the initial signed distance).
+   */
+  template <int dim>
+  class LevelSetSpace : public FieldPhysics<dim>, public AdaptationInterface<dim>
+  {
+  public:
+    LevelSetSpace(dealii::parallel::distributed::Triangulation<dim> &tria, const LevelSetParameters &parameters,
+                  std::shared_ptr<const dealii::Function<dim>> initial_distance);
+
+    std::string name() const override { return "level-set space"; }
+    void        setup_dofs() override;
+    dealii::types::global_dof_index n_dofs() const override { return dofs.n_dofs(); }
+
+    void set_periodic(dealii::types::boundary_id b1, dealii::types::boundary_id b2, unsigned int direction);
+    /// The fields that decide the distance (once they exist).
+    void attach(const NclsTransport<dim> &ncls) { level_set = &ncls; }
+
+    // AdaptationInterface: the free surface φ = 0.
+    double distance(const dealii::Point<dim> &x) const override;
+    double cell_distance(const typename dealii::Triangulation<dim>::active_cell_iterator &cell) const override;
+    double displacement_since_adaptation() const override { return travelled; }
+    void   mark_adapted() override { travelled = 0; }
+    /// The interface moved at most @p distance this step (max|u| dt).
+    void   add_travel(double distance) { travelled += distance; }
+
+    /// ε of H_ε on a cell.
+    double epsilon(const typename dealii::Triangulation<dim>::cell_iterator &cell) const;
+    static double cell_size(const typename dealii::Triangulation<dim>::cell_iterator &cell);
+
+    const LevelSetParameters                  &parameters() const { return prm; }
+    const dealii::DoFHandler<dim>             &dof_handler() const { return dofs; }
+    const dealii::FE_Q<dim>                   &fe() const { return finite_element; }
+    const dealii::MappingQ<dim>               &mapping() const { return map; }
+    const dealii::AffineConstraints<double>   &constraints() const { return mesh_constraints; }
+    const dealii::DynamicSparsityPattern      &sparsity() const { return dsp; }
+    const dealii::IndexSet                    &owned() const { return owned_dofs; }
+    const dealii::IndexSet                    &relevant() const { return relevant_dofs; }
+    /// ∫ψ_i of the constrained basis (owned entries).
+    const dealii::TrilinosWrappers::MPI::Vector &lumped_mass() const { return lumped; }
+    /// Support points of the locally owned DoFs.
+    const std::map<dealii::types::global_dof_index, dealii::Point<dim>> &support_points() const { return points; }
+    MPI_Comm communicator() const { return comm; }
+    /// A ghosted vector of the space / an owned one.
+    void reinit_ghosted(dealii::TrilinosWrappers::MPI::Vector &v) const { v.reinit(owned_dofs, relevant_dofs, comm); }
+    void reinit_owned(dealii::TrilinosWrappers::MPI::Vector &v) const { v.reinit(owned_dofs, comm); }
+    /// The level-set cell of a triangulation cell.
+    typename dealii::DoFHandler<dim>::active_cell_iterator
+    cell_of(const typename dealii::Triangulation<dim>::active_cell_iterator &cell) const
+    {
+      return typename dealii::DoFHandler<dim>::active_cell_iterator(&tria, cell->level(), cell->index(), &dofs);
+    }
+
+    /// Lumped L² projection of H_ε(φ) into @p theta (bounded in [0, 1], ∫θ = ∫H_ε(φ) exactly).
+    void project_heaviside(const dealii::TrilinosWrappers::MPI::Vector &phi,
+                           dealii::TrilinosWrappers::MPI::Vector       &theta) const;
+    /// ∫(1 − H_ε(φ)): the water volume (the quadrature the mass correction uses).
+    double water_volume(const dealii::TrilinosWrappers::MPI::Vector &phi) const;
+    /// Quadrature of every nonlinear level-set integral (H_ε, the mass correction, volumes).
+    dealii::QGauss<dim> nonlinear_quadrature() const { return dealii::QGauss<dim>(prm.degree + 2); }
+
+    dealii::TimerOutput &timer() const { return timer_output; }
+
+  private:
+    MPI_Comm                                           comm;
+    dealii::parallel::distributed::Triangulation<dim> &tria;
+    LevelSetParameters                                 prm;
+    std::shared_ptr<const dealii::Function<dim>>       initial;
+    dealii::FE_Q<dim>                                  finite_element;
+    dealii::MappingQ<dim>                              map;
+    dealii::DoFHandler<dim>                            dofs;
+    dealii::IndexSet                                   owned_dofs, relevant_dofs;
+    dealii::AffineConstraints<double>                  mesh_constraints;
+    dealii::DynamicSparsityPattern                     dsp;
+    dealii::TrilinosWrappers::MPI::Vector              lumped;
+    std::map<dealii::types::global_dof_index, dealii::Point<dim>> points;
+    struct Periodic { dealii::types::boundary_id b1, b2; unsigned int direction; };
+    std::vector<Periodic>     periodic;
+    const NclsTransport<dim> *level_set = nullptr;
+    double                    travelled = 0;
+    dealii::ConditionalOStream  silent{std::cout, false};
+    mutable dealii::TimerOutput timer_output;
+  };
+
+  /// Shared machinery of the two transports: ghosted history, its transfer and output.
+  template <int dim>
+  class LevelSetField : public FieldPhysics<dim>
+  {
+  public:
+    LevelSetField(LevelSetSpace<dim> &space, const NavierStokes<dim> &flow, std::string field_name);
+
+    void setup_dofs() override;
+    void prepare_transfer(bool serialization) override;
+    void finish_transfer(bool serialization) override;
+    void add_to_output(dealii::DataOut<dim> &data_out) const override;
+    void save_state(std::ostream &out) const override;
+    void load_state(std::istream &in) override;
+
+    /// Current value (ghosted) and the value before the last advance.
+    const dealii::TrilinosWrappers::MPI::Vector &value() const { return current; }
+    const dealii::TrilinosWrappers::MPI::Vector &previous() const { return before; }
+    /// Overwrite the current value (owned or ghosted vector; constraints applied here).
+    void set(const dealii::TrilinosWrappers::MPI::Vector &v);
+    /// Interpolate @p f as the initial value (previous = current).
+    void initialize(const dealii::Function<dim> &f);
+    double last_step() const { return dt_last; }
+    unsigned int last_iterations() const { return iterations; }
+
+  protected:
+    /// One implicit Crank–Nicolson step with SUPG at the midpoint velocity (u^n + u^{n+1})/2:
+    /// conservative (∇·(uθ), weak, with open-boundary fluxes) or advective (u·∇φ); @p nu
+    /// per cell adds shock-capturing diffusion. Returns the solution; Krylov iterations counted.
+    void solve_transport(double dt, bool conservative, const std::vector<double> *nu,
+                         dealii::TrilinosWrappers::MPI::Vector &result);
+    /// Residual-based shock-capturing viscosity per active cell (index: active_cell_index):
+    /// ν_K = c h_K max_q |R| / |∇θ|, capped at h_K |u| / 2, R of (@p provisional − current)/dt.
+    std::vector<double> shock_capturing(double dt, const dealii::TrilinosWrappers::MPI::Vector &provisional) const;
+
+    LevelSetSpace<dim>      &space;
+    const NavierStokes<dim> &flow;
+    std::string              field_name;
+    dealii::TrilinosWrappers::MPI::Vector current, before;
+    double                   dt_last    = 0;
+    unsigned int             iterations = 0;
+    std::set<dealii::types::boundary_id> open_boundaries;
+    double                   inflow_value = 0;
+
+  private:
+    using Transfer = dealii::parallel::distributed::SolutionTransfer<dim, dealii::TrilinosWrappers::MPI::Vector>;
+    std::unique_ptr<Transfer>             transfer;
+    dealii::TrilinosWrappers::SparseMatrix matrix;
+  };
+
+  /// Eq. 7: the non-conservative level set φ carried by the flow (SUPG, Crank–Nicolson).
+  template <int dim>
+  class NclsTransport : public LevelSetField<dim>
+  {
+  public:
+    NclsTransport(LevelSetSpace<dim> &space, const NavierStokes<dim> &flow)
+      : LevelSetField<dim>(space, flow, "phi")
+    {}
+    std::string name() const override { return "NCLS"; }
+    void        advance(double dt) override;
+  };
+
+  /// Eq. 8: the air volume fraction θ, transported conservatively (SUPG + shock capturing);
+  /// on open boundaries the outflow carries θ away and the inflow brings air (θ = 1, i.e.
+  /// the water fraction 1 − θ has the paper's zero Dirichlet value).
+  template <int dim>
+  class VofTransport : public LevelSetField<dim>
+  {
+  public:
+    VofTransport(LevelSetSpace<dim> &space, const NavierStokes<dim> &flow,
+                 const std::set<dealii::types::boundary_id> &open);
+    std::string name() const override { return "VOF"; }
+    void        advance(double dt) override;
+  };
+
+  /**
+   * Eq. 14 solved for its steady state directly: φ ← sign(φ) dist(x, Γ) at every DoF, Γ the
+   * zero level of the current Q_k field, sampled in every cut cell (points projected onto
+   * φ = 0 by Newton in reference coordinates, with their normals) and gathered on all ranks;
+   * the distance is to the tangent plane of the nearest samples (to the sample itself when
+   * the point lies beyond the sample's patch). The zero level moves only by the sampling
+   * error (measured in tests).
+   */
+  template <int dim>
+  class Redistancing : public FieldPhysics<dim>
+  {
+  public:
+    Redistancing(LevelSetSpace<dim> &space, NclsTransport<dim> &ncls) : space(space), ncls(ncls) {}
+    std::string name() const override { return "redistancing"; }
+    void        setup_dofs() override {}
+    void        advance(double dt) override;
+    /// Redistance the current φ of the NCLS.
+    void        redistance();
+    /// Interface samples of the last call (all ranks).
+    std::size_t n_samples() const { return samples; }
+
+  private:
+    LevelSetSpace<dim> &space;
+    NclsTransport<dim> &ncls;
+    std::size_t         samples = 0;
+  };
+
+  /// Eq. 12 by Newton: ∫(H_ε(φ+u) − θ) v + κ ∇u·∇v = 0 for all v (∂_n u = 0), κ = c h_K; then
+  /// φ ← φ + u and θ ← the lumped projection of H_ε(φ). With v = 1: ∫H_ε(φ) = ∫θ exactly.
+  template <int dim>
+  class MassCorrection : public FieldPhysics<dim>
+  {
+  public:
+    MassCorrection(LevelSetSpace<dim> &space, NclsTransport<dim> &ncls, VofTransport<dim> &vof)
+      : space(space), ncls(ncls), vof(vof)
+    {}
+    std::string name() const override { return "mass correction"; }
+    void        setup_dofs() override;
+    void        advance(double dt) override;
+    void        correct();
+    void        add_to_output(dealii::DataOut<dim> &data_out) const override;
+    unsigned int last_newton_iterations() const { return newton; }
+    double       last_correction() const { return max_correction; } ///< max |u| of the last call
+
+  private:
+    LevelSetSpace<dim>                    &space;
+    NclsTransport<dim>                    &ncls;
+    VofTransport<dim>                     &vof;
+    dealii::TrilinosWrappers::SparseMatrix jacobian;
+    dealii::TrilinosWrappers::MPI::Vector  correction;
+    unsigned int                           newton = 0;
+    double                                 max_correction = 0;
+  };
+
+  /// ρ, μ of Eq. 9–10 from the current φ (t^n: Algorithm 1 runs Navier–Stokes first);
+  /// ∂ρ/∂t from the last two level sets, ∇ρ = (ρ_a − ρ_w) δ_ε(φ) ∇φ.
+  template <int dim>
+  class TwoPhaseMaterial : public MaterialModel<dim>
+  {
+  public:
+    TwoPhaseMaterial(const LevelSetSpace<dim> &space, const TwoFluids &fluids);
+    /// The level set the material reads (constructed after Navier–Stokes, which needs the material).
+    void attach(const NclsTransport<dim> &level_set) { ncls = &level_set; }
+    void evaluate(const typename dealii::Triangulation<dim>::active_cell_iterator &cell,
+                  const std::vector<dealii::Point<dim>> &points, double time,
+                  MaterialValues<dim> &values) const override;
+    double minimum_density() const override { return std::min(fluids.rho_water, fluids.rho_air); }
+    bool   advected_density() const override { return true; }
+    const TwoFluids &properties() const { return fluids; }
+
+  private:
+    const LevelSetSpace<dim>             &space;
+    const NclsTransport<dim>             *ncls = nullptr;
+    TwoFluids                             fluids;
+    /// FEValues of the level-set space per Gauss quadrature size asked for (QGauss(n), n^dim points).
+    mutable std::map<unsigned int, std::unique_ptr<dealii::FEValues<dim>>> fe_values;
+    mutable std::vector<double>           phi, phi_old;
+    mutable std::vector<dealii::Tensor<1, dim>> grad_phi;
+  };
+
+  /// What the free-surface monitors measure (collective).
+  struct FreeSurfaceMeasures
+  {
+    double water_volume = 0;
+    double x_front      = 0;  ///< furthest wetted point on the floor along x
+    double x_foremost   = 0;  ///< furthest point with φ < 0 anywhere along x
+    double kinetic_water = 0, potential_water = 0; ///< ½∫ρ_w(1−H)|u|², −∫ρ_w(1−H) g·x
+    double kinetic_all = 0, potential_all = 0;     ///< the same over both phases
+  };
+
+  template <int dim>
+  FreeSurfaceMeasures measure_free_surface(const LevelSetSpace<dim> &space, const NclsTransport<dim> &ncls,
+                                           const NavierStokes<dim> &flow, const TwoFluids &fluids,
+                                           const dealii::Tensor<1, dim> &gravity, double floor_height);
+} // namespace twinflow::fem

@@ -1,0 +1,269 @@
+// Level set: redistancing (Eq. 14, steady state) and the mass correction (Eq. 12, Newton).
+#include <twinflow/fem/immersed_boundary.h>
+#include <twinflow/fem/level_set.h>
+
+#include <deal.II/base/mpi.h>
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/lac/solver_cg.h>
+#include <deal.II/lac/solver_control.h>
+#include <deal.II/numerics/rtree.h>
+
+#include <algorithm>
+#include <cmath>
+#include <iterator>
+
+namespace twinflow::fem
+{
+  using namespace dealii;
+
+  // ---------------------------------------------------------------------------------------
+  // Redistancing
+  // ---------------------------------------------------------------------------------------
+  template <int dim>
+  void Redistancing<dim>::advance(double)
+  {
+    if (space.parameters().redistance)
+      redistance();
+  }
+
+  template <int dim>
+  void Redistancing<dim>::redistance()
+  {
+    TimerOutput::Scope scope(space.timer(), "redistancing");
+    const auto        &phi = ncls.value();
+    const auto        &fe  = space.fe();
+    const unsigned int n   = fe.n_dofs_per_cell();
+    const unsigned int m   = dim == 2 ? 4 : 3; // samples per direction in a cut cell
+    // Samples packed as x (dim), unit normal (dim), patch radius.
+    constexpr unsigned int stride = 2 * dim + 1;
+    std::vector<double>    local;
+    std::vector<types::global_dof_index> indices(n);
+    std::vector<double>    values(n);
+    for (const auto &cell : space.dof_handler().active_cell_iterators())
+    {
+      if (!cell->is_locally_owned())
+        continue;
+      cell->get_dof_indices(indices);
+      double lo = 1e300, hi = -1e300;
+      for (unsigned int i = 0; i < n; ++i)
+      {
+        values[i] = phi[indices[i]];
+        lo = std::min(lo, values[i]);
+        hi = std::max(hi, values[i]);
+      }
+      if (lo > 0 || hi < 0)
+        continue;
+      // Parallelepiped cell (box meshes): x = v0 + J ξ.
+      Tensor<2, dim> J;
+      for (unsigned int d = 0; d < dim; ++d)
+        for (unsigned int e = 0; e < dim; ++e)
+          J[e][d] = cell->vertex(1u << d)[e] - cell->vertex(0)[e];
+      const Tensor<2, dim> JinvT = transpose(invert(J));
+      const double         h     = LevelSetSpace<dim>::cell_size(cell);
+      for (unsigned int k = 0; k < Utilities::pow(m, dim); ++k)
+      {
+        Point<dim> xi;
+        for (unsigned int d = 0, r = k; d < dim; ++d, r /= m)
+          xi[d] = (r % m + 0.5) / m;
+        double         val = 0;
+        Tensor<1, dim> g;
+        for (unsigned int it = 0; it < 10; ++it)
+        {
+          val = 0;
+          g   = Tensor<1, dim>();
+          for (unsigned int i = 0; i < n; ++i)
+          {
+            val += values[i] * fe.shape_value(i, xi);
+            g += values[i] * fe.shape_grad(i, xi);
+          }
+          if (g.norm_square() == 0 || std::abs(val) < 1e-13 * h)
+            break;
+          xi -= val / g.norm_square() * g;
+        }
+        bool inside = std::abs(val) < 1e-9 * h && g.norm_square() > 0;
+        for (unsigned int d = 0; d < dim; ++d)
+          inside = inside && xi[d] >= -1e-10 && xi[d] <= 1 + 1e-10;
+        if (!inside)
+          continue;
+        Point<dim> x = cell->vertex(0);
+        x += J * xi;
+        Tensor<1, dim> normal = JinvT * g;
+        normal /= normal.norm();
+        for (unsigned int d = 0; d < dim; ++d)
+          local.push_back(x[d]);
+        for (unsigned int d = 0; d < dim; ++d)
+          local.push_back(normal[d]);
+        local.push_back(0.75 * h / m);
+      }
+    }
+    const auto gathered = Utilities::MPI::all_gather(space.communicator(), local);
+    std::vector<std::pair<Point<dim>, unsigned int>> leaves;
+    std::vector<double>                              data;
+    for (const auto &part : gathered)
+      data.insert(data.end(), part.begin(), part.end());
+    samples = data.size() / stride;
+    if (samples == 0)
+      return; // no interface: nothing to measure distances to
+    for (unsigned int s = 0; s < samples; ++s)
+    {
+      Point<dim> p;
+      for (unsigned int d = 0; d < dim; ++d)
+        p[d] = data[s * stride + d];
+      leaves.emplace_back(p, s);
+    }
+    const auto tree = pack_rtree(leaves);
+
+    TrilinosWrappers::MPI::Vector next;
+    space.reinit_owned(next);
+    const unsigned int k = 1u << dim;
+    std::vector<std::pair<Point<dim>, unsigned int>> nearest;
+    for (const auto &[i, x] : space.support_points())
+    {
+      const double old = phi[i];
+      nearest.clear();
+      tree.query(boost::geometry::index::nearest(x, k), std::back_inserter(nearest));
+      double d = std::numeric_limits<double>::max();
+      for (const auto &[p, s] : nearest)
+      {
+        Tensor<1, dim> normal;
+        for (unsigned int e = 0; e < dim; ++e)
+          normal[e] = data[s * stride + dim + e];
+        const Tensor<1, dim> r       = x - p;
+        const double         along   = r * normal;
+        const double         lateral = (r - along * normal).norm();
+        d = std::min(d, lateral <= data[s * stride + 2 * dim] ? std::abs(along) : r.norm());
+      }
+      next[i] = old > 0 ? d : (old < 0 ? -d : 0.0);
+    }
+    next.compress(VectorOperation::insert);
+    ncls.set(next);
+  }
+
+  // ---------------------------------------------------------------------------------------
+  // Mass correction
+  // ---------------------------------------------------------------------------------------
+  template <int dim>
+  void MassCorrection<dim>::setup_dofs()
+  {
+    jacobian.reinit(space.owned(), space.owned(), space.sparsity(), space.communicator());
+    space.reinit_ghosted(correction);
+  }
+
+  template <int dim>
+  void MassCorrection<dim>::advance(double)
+  {
+    if (space.parameters().mass_correction)
+      correct();
+  }
+
+  template <int dim>
+  void MassCorrection<dim>::correct()
+  {
+    TimerOutput::Scope scope(space.timer(), "mass correction");
+    const auto        &prm  = space.parameters();
+    const auto        &fe   = space.fe();
+    const QGauss<dim>  quad = space.nonlinear_quadrature();
+    FEValues<dim>      fev(space.mapping(), fe, quad, update_values | update_gradients | update_JxW_values);
+    const unsigned int n  = fe.n_dofs_per_cell();
+    const unsigned int nq = quad.size();
+    FullMatrix<double> A(n, n);
+    Vector<double>     b(n);
+    std::vector<types::global_dof_index> indices(n);
+    std::vector<double>         phi_q(nq), theta_q(nq), u_q(nq);
+    std::vector<Tensor<1, dim>> grad_u(nq);
+    const MPI_Comm comm = space.communicator();
+    double domain = 0;
+    for (const auto i : space.owned())
+      domain += space.lumped_mass()[i];
+    domain = Utilities::MPI::sum(domain, comm);
+
+    TrilinosWrappers::MPI::Vector u_owned, residual, delta;
+    space.reinit_owned(u_owned);
+    space.reinit_owned(residual);
+    space.reinit_owned(delta);
+    correction = 0;
+    newton     = 0;
+    for (; newton < 25; ++newton)
+    {
+      jacobian = 0;
+      residual = 0;
+      double mismatch = 0;
+      for (const auto &cell : space.dof_handler().active_cell_iterators())
+      {
+        if (!cell->is_locally_owned())
+          continue;
+        fev.reinit(cell);
+        fev.get_function_values(ncls.value(), phi_q);
+        fev.get_function_values(vof.value(), theta_q);
+        fev.get_function_values(correction, u_q);
+        fev.get_function_gradients(correction, grad_u);
+        const double eps   = space.epsilon(cell);
+        const double kappa = prm.correction_diffusion * LevelSetSpace<dim>::cell_size(cell);
+        A = 0;
+        b = 0;
+        for (unsigned int q = 0; q < nq; ++q)
+        {
+          const double JxW = fev.JxW(q);
+          const double r   = smoothed_heaviside(phi_q[q] + u_q[q], eps) - theta_q[q];
+          const double dH  = smoothed_delta(phi_q[q] + u_q[q], eps);
+          mismatch += r * JxW;
+          for (unsigned int i = 0; i < n; ++i)
+          {
+            const double         si  = fev.shape_value(i, q);
+            const Tensor<1, dim> dsi = fev.shape_grad(i, q);
+            b(i) -= (r * si + kappa * (grad_u[q] * dsi)) * JxW;
+            for (unsigned int j = 0; j < n; ++j)
+              A(i, j) += (dH * si * fev.shape_value(j, q) + kappa * (dsi * fev.shape_grad(j, q))) * JxW;
+          }
+        }
+        cell->get_dof_indices(indices);
+        space.constraints().distribute_local_to_global(A, b, indices, jacobian, residual);
+      }
+      jacobian.compress(VectorOperation::add);
+      residual.compress(VectorOperation::add);
+      mismatch = Utilities::MPI::sum(mismatch, comm);
+      // The volume constraint (the equation tested with v = 1) is met once Newton has moved.
+      if (std::abs(mismatch) < prm.correction_tolerance * domain && (newton > 0 || residual.linfty_norm() == 0))
+        break;
+      TrilinosWrappers::PreconditionAMG                 amg;
+      TrilinosWrappers::PreconditionAMG::AdditionalData data;
+      data.elliptic              = true;
+      data.higher_order_elements = fe.degree > 1;
+      data.smoother_sweeps       = 2;
+      amg.initialize(jacobian, data);
+      delta = 0;
+      SolverControl control(1000, std::max(1e-12 * residual.l2_norm(), 1e-300));
+      SolverCG<TrilinosWrappers::MPI::Vector> cg(control);
+      cg.solve(jacobian, delta, residual, amg);
+      space.constraints().distribute(delta);
+      u_owned += delta;
+      correction = u_owned;
+      if (delta.linfty_norm() < 1e-12 * std::pow(domain, 1.0 / dim))
+      {
+        ++newton;
+        break;
+      }
+    }
+    max_correction = u_owned.linfty_norm();
+    TrilinosWrappers::MPI::Vector phi;
+    space.reinit_owned(phi);
+    phi = ncls.value();
+    phi += u_owned;
+    ncls.set(phi);
+    TrilinosWrappers::MPI::Vector theta;
+    space.reinit_ghosted(theta);
+    space.project_heaviside(ncls.value(), theta);
+    vof.set(theta);
+  }
+
+  template <int dim>
+  void MassCorrection<dim>::add_to_output(DataOut<dim> &data_out) const
+  {
+    data_out.add_data_vector(space.dof_handler(), correction, "mass_correction");
+  }
+
+  template class Redistancing<2>;
+  template class Redistancing<3>;
+  template class MassCorrection<2>;
+  template class MassCorrection<3>;
+} // namespace twinflow::fem

@@ -1,0 +1,442 @@
+// Level set: parameters, the shared space (DoFs, constraints, free-surface interface), the
+// field life cycle, the two-phase material and the free-surface measures.
+#include <twinflow/core/errors.h>
+#include <twinflow/fem/immersed_boundary.h>
+#include <twinflow/fem/level_set.h>
+
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/dofs/dof_tools.h>
+#include <deal.II/lac/sparsity_tools.h>
+#include <deal.II/numerics/vector_tools.h>
+
+#include <cmath>
+#include <istream>
+#include <limits>
+#include <ostream>
+
+namespace twinflow::fem
+{
+  using namespace dealii;
+
+  void LevelSetParameters::declare(ParameterHandler &prm)
+  {
+    prm.declare_entry("Degree", "1", Patterns::Integer(1, 2), "Polynomial degree k of the Q_k level set and volume fraction.");
+    prm.declare_entry("Interface width", "1.5", Patterns::Double(0.5, 4),
+                      "epsilon / h_K of the regularised Heaviside H_eps of Eq. 13 (rho, mu, mass correction); "
+                      "the paper uses h_K < epsilon < 2 h_K.");
+    prm.declare_entry("Shock capturing", "0.2", Patterns::Double(0, 2),
+                      "c of the VOF shock-capturing viscosity nu_K = c h_K |R| / |grad theta| (capped at h_K |u| / 2).");
+    prm.declare_entry("Correction diffusion", "10", Patterns::Double(1e-3, 1e3),
+                      "kappa / h_K of the mass correction (Eq. 12): larger spreads the correction u further from "
+                      "the interface.");
+    prm.declare_entry("Correction tolerance", "1e-10", Patterns::Double(0),
+                      "Newton of the mass correction stops when |int H(phi + u) - int theta| / |Omega| is below it.");
+    prm.declare_entry("Redistancing", "true", Patterns::Bool(), "Restore the signed distance (Eq. 14) every step.");
+    prm.declare_entry("Mass correction", "true", Patterns::Bool(),
+                      "Correct phi to the conserved volume fraction (Eq. 12) every step; false only to measure "
+                      "what it does (the water volume then drifts).");
+    prm.declare_entry("Linear tolerance", "1e-10", Patterns::Double(0), "Relative residual of the level-set Krylov solves.");
+  }
+
+  void LevelSetParameters::parse(ParameterHandler &prm)
+  {
+    degree               = prm.get_integer("Degree");
+    interface_width      = prm.get_double("Interface width");
+    shock_capturing      = prm.get_double("Shock capturing");
+    correction_diffusion = prm.get_double("Correction diffusion");
+    correction_tolerance = prm.get_double("Correction tolerance");
+    redistance           = prm.get_bool("Redistancing");
+    mass_correction      = prm.get_bool("Mass correction");
+    linear_tolerance     = prm.get_double("Linear tolerance");
+  }
+
+  // ---------------------------------------------------------------------------------------
+  template <int dim>
+  LevelSetSpace<dim>::LevelSetSpace(parallel::distributed::Triangulation<dim> &tria,
+                                    const LevelSetParameters                  &parameters,
+                                    std::shared_ptr<const Function<dim>>       initial_distance)
+    : comm(tria.get_communicator())
+    , tria(tria)
+    , prm(parameters)
+    , initial(std::move(initial_distance))
+    , finite_element(parameters.degree)
+    , map(1)
+    , dofs(tria)
+    , timer_output(comm, silent, TimerOutput::never, TimerOutput::wall_times)
+  {}
+
+  template <int dim>
+  void LevelSetSpace<dim>::set_periodic(types::boundary_id b1, types::boundary_id b2, unsigned int direction)
+  {
+    periodic.push_back({b1, b2, direction});
+  }
+
+  template <int dim>
+  void LevelSetSpace<dim>::setup_dofs()
+  {
+    TimerOutput::Scope scope(timer_output, "adaptation (level-set setup)");
+    dofs.distribute_dofs(finite_element);
+    owned_dofs = dofs.locally_owned_dofs();
+    DoFTools::extract_locally_relevant_dofs(dofs, relevant_dofs);
+    mesh_constraints.clear();
+    mesh_constraints.reinit(relevant_dofs);
+    DoFTools::make_hanging_node_constraints(dofs, mesh_constraints);
+    for (const auto &pp : periodic)
+      DoFTools::make_periodicity_constraints(dofs, pp.b1, pp.b2, pp.direction, mesh_constraints);
+    mesh_constraints.close();
+
+    dsp.reinit(relevant_dofs.size(), relevant_dofs.size(), relevant_dofs);
+    DoFTools::make_sparsity_pattern(dofs, dsp, mesh_constraints, false);
+    SparsityTools::distribute_sparsity_pattern(dsp, owned_dofs, comm, relevant_dofs);
+
+    // Lumped mass of the constrained basis: the rows of M 1.
+    reinit_owned(lumped);
+    const QGauss<dim>  quad(prm.degree + 1);
+    FEValues<dim>      fev(map, finite_element, quad, update_values | update_JxW_values);
+    const unsigned int n = finite_element.n_dofs_per_cell();
+    Vector<double>     local(n);
+    std::vector<types::global_dof_index> indices(n);
+    for (const auto &cell : dofs.active_cell_iterators())
+      if (cell->is_locally_owned())
+      {
+        fev.reinit(cell);
+        local = 0;
+        for (unsigned int q = 0; q < quad.size(); ++q)
+          for (unsigned int i = 0; i < n; ++i)
+            local(i) += fev.shape_value(i, q) * fev.JxW(q);
+        cell->get_dof_indices(indices);
+        mesh_constraints.distribute_local_to_global(local, indices, lumped);
+      }
+    lumped.compress(VectorOperation::add);
+
+    points.clear();
+    std::map<types::global_dof_index, Point<dim>> all;
+    DoFTools::map_dofs_to_support_points(map, dofs, all);
+    for (const auto &[i, p] : all)
+      if (owned_dofs.is_element(i))
+        points.emplace(i, p);
+  }
+
+  template <int dim>
+  double LevelSetSpace<dim>::cell_size(const typename Triangulation<dim>::cell_iterator &cell)
+  {
+    return cell->diameter() / std::sqrt(double(dim));
+  }
+
+  template <int dim>
+  double LevelSetSpace<dim>::epsilon(const typename Triangulation<dim>::cell_iterator &cell) const
+  {
+    return prm.interface_width * cell_size(cell);
+  }
+
+  template <int dim>
+  double LevelSetSpace<dim>::distance(const Point<dim> &x) const
+  {
+    // Pointwise: the initial distance (the band test uses cell_distance, which reads φ).
+    return initial->value(x);
+  }
+
+  template <int dim>
+  double LevelSetSpace<dim>::cell_distance(const typename Triangulation<dim>::active_cell_iterator &cell) const
+  {
+    if (level_set == nullptr || level_set->value().size() != dofs.n_dofs() || dofs.n_dofs() == 0 ||
+        !cell->is_locally_owned())
+      return initial->value(cell->center());
+    // φ at the centre: the mean of the vertex values for Q1 (the support points for Q2 are
+    // close enough for a band test).
+    const auto          c = cell_of(cell);
+    std::vector<types::global_dof_index> indices(finite_element.n_dofs_per_cell());
+    c->get_dof_indices(indices);
+    double lo = std::numeric_limits<double>::max(), hi = -lo, sum = 0;
+    for (const auto i : indices)
+    {
+      const double v = level_set->value()[i];
+      lo = std::min(lo, v);
+      hi = std::max(hi, v);
+      sum += v;
+    }
+    if (lo <= 0 && hi >= 0)
+      return 0; // cut cell
+    return sum / indices.size();
+  }
+
+  template <int dim>
+  void LevelSetSpace<dim>::project_heaviside(const TrilinosWrappers::MPI::Vector &phi,
+                                             TrilinosWrappers::MPI::Vector       &theta) const
+  {
+    TrilinosWrappers::MPI::Vector rhs;
+    reinit_owned(rhs);
+    const QGauss<dim>  quad = nonlinear_quadrature();
+    FEValues<dim>      fev(map, finite_element, quad, update_values | update_JxW_values);
+    const unsigned int n = finite_element.n_dofs_per_cell();
+    Vector<double>     local(n);
+    std::vector<double> phi_q(quad.size());
+    std::vector<types::global_dof_index> indices(n);
+    for (const auto &cell : dofs.active_cell_iterators())
+      if (cell->is_locally_owned())
+      {
+        fev.reinit(cell);
+        fev.get_function_values(phi, phi_q);
+        const double eps = epsilon(cell);
+        local = 0;
+        for (unsigned int q = 0; q < quad.size(); ++q)
+        {
+          const double h = smoothed_heaviside(phi_q[q], eps) * fev.JxW(q);
+          for (unsigned int i = 0; i < n; ++i)
+            local(i) += h * fev.shape_value(i, q);
+        }
+        cell->get_dof_indices(indices);
+        mesh_constraints.distribute_local_to_global(local, indices, rhs);
+      }
+    rhs.compress(VectorOperation::add);
+    for (const auto i : owned_dofs)
+      if (!mesh_constraints.is_constrained(i))
+        rhs[i] = lumped[i] > 0 ? rhs[i] / lumped[i] : 0;
+    rhs.compress(VectorOperation::insert);
+    mesh_constraints.distribute(rhs);
+    theta = rhs;
+  }
+
+  template <int dim>
+  double LevelSetSpace<dim>::water_volume(const TrilinosWrappers::MPI::Vector &phi) const
+  {
+    const QGauss<dim>   quad = nonlinear_quadrature();
+    FEValues<dim>       fev(map, finite_element, quad, update_values | update_JxW_values);
+    std::vector<double> phi_q(quad.size());
+    double              v = 0;
+    for (const auto &cell : dofs.active_cell_iterators())
+      if (cell->is_locally_owned())
+      {
+        fev.reinit(cell);
+        fev.get_function_values(phi, phi_q);
+        const double eps = epsilon(cell);
+        for (unsigned int q = 0; q < quad.size(); ++q)
+          v += (1 - smoothed_heaviside(phi_q[q], eps)) * fev.JxW(q);
+      }
+    return Utilities::MPI::sum(v, comm);
+  }
+
+  // ---------------------------------------------------------------------------------------
+  template <int dim>
+  LevelSetField<dim>::LevelSetField(LevelSetSpace<dim> &space, const NavierStokes<dim> &flow, std::string field_name)
+    : space(space), flow(flow), field_name(std::move(field_name))
+  {}
+
+  template <int dim>
+  void LevelSetField<dim>::setup_dofs()
+  {
+    // The space (first in the physics list) has distributed the DoFs already.
+    space.reinit_ghosted(current);
+    space.reinit_ghosted(before);
+    matrix.reinit(space.owned(), space.owned(), space.sparsity(), space.communicator());
+  }
+
+  template <int dim>
+  void LevelSetField<dim>::initialize(const Function<dim> &f)
+  {
+    TrilinosWrappers::MPI::Vector v;
+    space.reinit_owned(v);
+    VectorTools::interpolate(space.mapping(), space.dof_handler(), f, v);
+    space.constraints().distribute(v);
+    current = v;
+    before  = v;
+  }
+
+  template <int dim>
+  void LevelSetField<dim>::set(const TrilinosWrappers::MPI::Vector &v)
+  {
+    TrilinosWrappers::MPI::Vector owned;
+    space.reinit_owned(owned);
+    owned = v;
+    space.constraints().distribute(owned);
+    current = owned;
+  }
+
+  template <int dim>
+  void LevelSetField<dim>::prepare_transfer(const bool serialization)
+  {
+    transfer = std::make_unique<Transfer>(space.dof_handler());
+    const std::vector<const TrilinosWrappers::MPI::Vector *> v{&current, &before};
+    if (serialization)
+      transfer->prepare_for_serialization(v);
+    else
+      transfer->prepare_for_coarsening_and_refinement(v);
+  }
+
+  template <int dim>
+  void LevelSetField<dim>::finish_transfer(const bool serialization)
+  {
+    if (serialization)
+      transfer = std::make_unique<Transfer>(space.dof_handler());
+    AssertThrow(transfer, ExcMessage(field_name + ": finish_transfer without prepare_transfer"));
+    std::vector<TrilinosWrappers::MPI::Vector> fresh(2);
+    for (auto &v : fresh)
+      space.reinit_owned(v);
+    std::vector<TrilinosWrappers::MPI::Vector *> out{&fresh[0], &fresh[1]};
+    if (serialization)
+      transfer->deserialize(out);
+    else
+      transfer->interpolate(out);
+    for (auto &v : fresh)
+      space.constraints().distribute(v);
+    current = fresh[0];
+    before  = fresh[1];
+    transfer.reset();
+  }
+
+  template <int dim>
+  void LevelSetField<dim>::add_to_output(DataOut<dim> &data_out) const
+  {
+    data_out.add_data_vector(space.dof_handler(), current, field_name);
+  }
+
+  template <int dim>
+  void LevelSetField<dim>::save_state(std::ostream &out) const
+  {
+    out.precision(17);
+    out << "level-set-field " << field_name << ' ' << dt_last << '\n';
+  }
+
+  template <int dim>
+  void LevelSetField<dim>::load_state(std::istream &in)
+  {
+    std::string tag, name;
+    in >> tag >> name >> dt_last;
+    AssertThrow(in && tag == "level-set-field" && name == field_name,
+                ExcMessage("checkpoint metadata: the level-set line of '" + field_name + "' is missing or malformed"));
+  }
+
+  // ---------------------------------------------------------------------------------------
+  template <int dim>
+  TwoPhaseMaterial<dim>::TwoPhaseMaterial(const LevelSetSpace<dim> &space, const TwoFluids &fluids)
+    : space(space), fluids(fluids)
+  {}
+
+  template <int dim>
+  void TwoPhaseMaterial<dim>::evaluate(const typename Triangulation<dim>::active_cell_iterator &cell,
+                                       const std::vector<Point<dim>> &points, double,
+                                       MaterialValues<dim> &values) const
+  {
+    AssertThrow(ncls != nullptr, ExcMessage("TwoPhaseMaterial: no level set attached"));
+    const unsigned int nq = points.size();
+    // The callers integrate with QGauss(n): n^dim points (checked by the point positions below).
+    const unsigned int n1d = std::lround(std::pow(double(nq), 1.0 / dim));
+    AssertThrow(Utilities::pow(n1d, dim) == nq, ExcMessage("TwoPhaseMaterial: expects a Gauss quadrature"));
+    auto &fev = fe_values[n1d];
+    if (!fev)
+      fev = std::make_unique<FEValues<dim>>(space.mapping(), space.fe(), QGauss<dim>(n1d),
+                                            update_values | update_gradients | update_quadrature_points);
+    fev->reinit(space.cell_of(cell));
+    Assert(fev->quadrature_point(0).distance(points[0]) < 1e-8 * cell->diameter(),
+           ExcMessage("TwoPhaseMaterial: quadrature points do not match"));
+    values.resize(nq);
+    phi.resize(nq);
+    phi_old.resize(nq);
+    grad_phi.resize(nq);
+    fev->get_function_values(ncls->value(), phi);
+    fev->get_function_values(ncls->previous(), phi_old);
+    fev->get_function_gradients(ncls->value(), grad_phi);
+    const double eps = space.epsilon(cell);
+    const double dr = fluids.rho_air - fluids.rho_water, dm = fluids.mu_air - fluids.mu_water;
+    const double dt = ncls->last_step();
+    // ρ enters the momentum equation as its cell mean ρ̄_K: gravity ρ̄_K g is then balanced
+    // exactly by the Q1 interpolant of the hydrostatic pressure wherever the surface is level
+    // across a cell (the slope of p_h in a cell is the column mean of ρ g); with ρ at the
+    // quadrature points the light side of the band would see ∇p_h of the heavy side, an
+    // acceleration ∼ g ρ̄/ρ(φ) (hundreds of g at 1000:1). μ is evaluated pointwise.
+    const auto &weights = fev->get_quadrature().get_weights();
+    double      mean = 0, weight = 0;
+    for (unsigned int q = 0; q < nq; ++q)
+    {
+      const double H = smoothed_heaviside(phi[q], eps);
+      mean += weights[q] * (fluids.rho_water + dr * H);
+      weight += weights[q];
+      values.viscosity[q]        = fluids.mu_water + dm * H;
+      values.density_gradient[q] = dr * smoothed_delta(phi[q], eps) * grad_phi[q];
+      values.density_rate[q] = dt > 0 ? dr * (H - smoothed_heaviside(phi_old[q], eps)) / dt : 0.0;
+    }
+    std::fill(values.density.begin(), values.density.end(), mean / weight);
+  }
+
+  // ---------------------------------------------------------------------------------------
+  template <int dim>
+  FreeSurfaceMeasures measure_free_surface(const LevelSetSpace<dim> &space, const NclsTransport<dim> &ncls,
+                                           const NavierStokes<dim> &flow, const TwoFluids &fluids,
+                                           const Tensor<1, dim> &gravity, const double floor_height)
+  {
+    FreeSurfaceMeasures m;
+    const auto &phi = ncls.value();
+    m.water_volume  = space.water_volume(phi);
+    // Energies on the velocity quadrature.
+    const QGauss<dim>  quad(flow.velocity_dof_handler().get_fe().degree + 1);
+    FEValues<dim>      fev(flow.get_mapping(), flow.velocity_dof_handler().get_fe(), quad,
+                           update_values | update_JxW_values | update_quadrature_points);
+    FEValues<dim>      fel(space.mapping(), space.fe(), quad, update_values);
+    std::vector<Tensor<1, dim>> u(quad.size());
+    std::vector<double>         phi_q(quad.size());
+    double front = -std::numeric_limits<double>::max(), foremost = front;
+    const double tol = 1e-9 * (1 + std::abs(floor_height));
+    for (const auto &cell : flow.velocity_dof_handler().active_cell_iterators())
+      if (cell->is_locally_owned())
+      {
+        fev.reinit(cell);
+        const auto lcell = space.cell_of(cell);
+        fel.reinit(lcell);
+        fev[FEValuesExtractors::Vector(0)].get_function_values(flow.velocity(), u);
+        fel.get_function_values(phi, phi_q);
+        const double eps = space.epsilon(cell);
+        for (unsigned int q = 0; q < quad.size(); ++q)
+        {
+          const double H   = smoothed_heaviside(phi_q[q], eps);
+          const double rho = fluids.rho_water + (fluids.rho_air - fluids.rho_water) * H;
+          const double w   = fluids.rho_water * (1 - H);
+          const double ek  = 0.5 * u[q].norm_square() * fev.JxW(q);
+          const double ep  = -(gravity * fev.quadrature_point(q)) * fev.JxW(q);
+          m.kinetic_all += rho * ek;
+          m.potential_all += rho * ep;
+          m.kinetic_water += w * ek;
+          m.potential_water += w * ep;
+        }
+        // Fronts: along every cell edge, the largest x with φ < 0 (linear between vertices).
+        for (unsigned int l = 0; l < GeometryInfo<dim>::lines_per_cell; ++l)
+        {
+          const auto   line = lcell->line(l);
+          const double a = phi[line->vertex_dof_index(0, 0)], b = phi[line->vertex_dof_index(1, 0)];
+          const Point<dim> pa = line->vertex(0), pb = line->vertex(1);
+          double x = -std::numeric_limits<double>::max();
+          if (a < 0 && b < 0)
+            x = std::max(pa[0], pb[0]);
+          else if (a < 0 || b < 0)
+          {
+            const double s = a / (a - b); // zero crossing
+            const double xc = pa[0] + s * (pb[0] - pa[0]);
+            x = std::max(xc, a < 0 ? pa[0] : pb[0]);
+          }
+          foremost = std::max(foremost, x);
+          if (std::abs(pa[1] - floor_height) < tol && std::abs(pb[1] - floor_height) < tol)
+            front = std::max(front, x);
+        }
+      }
+    const MPI_Comm comm = space.communicator();
+    m.kinetic_all     = Utilities::MPI::sum(m.kinetic_all, comm);
+    m.potential_all   = Utilities::MPI::sum(m.potential_all, comm);
+    m.kinetic_water   = Utilities::MPI::sum(m.kinetic_water, comm);
+    m.potential_water = Utilities::MPI::sum(m.potential_water, comm);
+    m.x_front         = Utilities::MPI::max(front, comm);
+    m.x_foremost      = Utilities::MPI::max(foremost, comm);
+    return m;
+  }
+
+  template class LevelSetSpace<2>;
+  template class LevelSetSpace<3>;
+  template class LevelSetField<2>;
+  template class LevelSetField<3>;
+  template class TwoPhaseMaterial<2>;
+  template class TwoPhaseMaterial<3>;
+  template FreeSurfaceMeasures measure_free_surface(const LevelSetSpace<2> &, const NclsTransport<2> &,
+                                                    const NavierStokes<2> &, const TwoFluids &, const Tensor<1, 2> &,
+                                                    double);
+  template FreeSurfaceMeasures measure_free_surface(const LevelSetSpace<3> &, const NclsTransport<3> &,
+                                                    const NavierStokes<3> &, const TwoFluids &, const Tensor<1, 3> &,
+                                                    double);
+} // namespace twinflow::fem

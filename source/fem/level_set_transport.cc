@@ -1,0 +1,252 @@
+// Level set: the transports of φ (Eq. 7, NCLS) and θ (Eq. 8, VOF). Crank–Nicolson in time at
+// the midpoint velocity, SUPG in space; the VOF adds residual-based shock capturing. Both are
+// linear per step (GMRES + ILU).
+#include <twinflow/fem/level_set.h>
+
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/fe/fe_values.h>
+#include <deal.II/lac/solver_control.h>
+#include <deal.II/lac/solver_gmres.h>
+
+#include <cmath>
+
+namespace twinflow::fem
+{
+  using namespace dealii;
+
+  namespace
+  {
+    /// SUPG parameter of a Crank–Nicolson step: (4/τ² + 4|u|²/h²)^{-1/2}.
+    double supg_tau(const double dt, const double speed, const double h)
+    {
+      return 1.0 / std::sqrt(4.0 / (dt * dt) + 4.0 * speed * speed / (h * h));
+    }
+  } // namespace
+
+  template <int dim>
+  void LevelSetField<dim>::solve_transport(const double dt, const bool conservative, const std::vector<double> *nu,
+                                           TrilinosWrappers::MPI::Vector &result)
+  {
+    matrix = 0;
+    TrilinosWrappers::MPI::Vector rhs;
+    space.reinit_owned(rhs);
+    const auto        &fe   = space.fe();
+    const QGauss<dim>  quad(fe.degree + 2);
+    const QGauss<dim - 1> face_quad(fe.degree + 2);
+    const auto        &vdofs = flow.velocity_dof_handler();
+    FEValues<dim>      fev(space.mapping(), fe, quad, update_values | update_gradients | update_JxW_values);
+    FEValues<dim>      fvu(flow.get_mapping(), vdofs.get_fe(), quad, update_values | update_gradients);
+    FEFaceValues<dim>  ffv(space.mapping(), fe, face_quad, update_values | update_JxW_values | update_normal_vectors);
+    FEFaceValues<dim>  ffu(flow.get_mapping(), vdofs.get_fe(), face_quad, update_values);
+    const unsigned int n  = fe.n_dofs_per_cell();
+    const unsigned int nq = quad.size();
+    const FEValuesExtractors::Vector vel(0);
+    FullMatrix<double> A(n, n);
+    Vector<double>     b(n);
+    std::vector<types::global_dof_index> indices(n);
+    std::vector<Tensor<1, dim>> u_new(nq), u_old(nq), grad_old(nq), fu_new(face_quad.size()), fu_old(face_quad.size());
+    std::vector<double> div_new(nq), div_old(nq), val_old(nq), fval_old(face_quad.size());
+    std::vector<double> s(n), adv(n);
+    std::vector<Tensor<1, dim>> ds(n);
+    const auto &tria = space.dof_handler().get_triangulation();
+    for (const auto &cell : space.dof_handler().active_cell_iterators())
+    {
+      if (!cell->is_locally_owned())
+        continue;
+      fev.reinit(cell);
+      const typename DoFHandler<dim>::active_cell_iterator vcell(&tria, cell->level(), cell->index(), &vdofs);
+      fvu.reinit(vcell);
+      fvu[vel].get_function_values(flow.velocity(), u_new);
+      fvu[vel].get_function_values(flow.previous_velocity(), u_old);
+      fvu[vel].get_function_divergences(flow.velocity(), div_new);
+      fvu[vel].get_function_divergences(flow.previous_velocity(), div_old);
+      fev.get_function_values(current, val_old);
+      fev.get_function_gradients(current, grad_old);
+      const double h     = LevelSetSpace<dim>::cell_size(cell) / fe.degree;
+      const double nu_K  = nu ? (*nu)[cell->active_cell_index()] : 0.0;
+      A = 0;
+      b = 0;
+      for (unsigned int q = 0; q < nq; ++q)
+      {
+        const Tensor<1, dim> u   = 0.5 * (u_new[q] + u_old[q]);
+        const double         div = conservative ? 0.5 * (div_new[q] + div_old[q]) : 0.0;
+        const double         tau = supg_tau(dt, u.norm(), h);
+        const double         JxW = fev.JxW(q);
+        for (unsigned int i = 0; i < n; ++i)
+        {
+          s[i]   = fev.shape_value(i, q);
+          ds[i]  = fev.shape_grad(i, q);
+          adv[i] = u * ds[i];
+        }
+        // Strong residual of the old state (explicit half of Crank–Nicolson).
+        const double res_old = u * grad_old[q] + div * val_old[q];
+        for (unsigned int i = 0; i < n; ++i)
+        {
+          const double w = s[i] + tau * adv[i];
+          for (unsigned int j = 0; j < n; ++j)
+          {
+            double a = s[j] / dt * w + 0.5 * nu_K * (ds[i] * ds[j]);
+            if (conservative) // Galerkin part in divergence form: −∫θ u·∇v (conservative)
+              a += -0.5 * s[j] * adv[i] + tau * adv[i] * 0.5 * (adv[j] + div * s[j]);
+            else
+              a += 0.5 * adv[j] * w;
+            A(i, j) += a * JxW;
+          }
+          double r = val_old[q] / dt * w - 0.5 * nu_K * (ds[i] * grad_old[q]);
+          if (conservative)
+            r += 0.5 * val_old[q] * adv[i] - tau * adv[i] * 0.5 * res_old;
+          else
+            r += -0.5 * res_old * w;
+          b(i) += r * JxW;
+        }
+      }
+      // Open boundaries of the conservative form: outflow carries θ away (implicit half),
+      // inflow brings inflow_value.
+      if (conservative && !open_boundaries.empty())
+        for (const auto f : cell->face_indices())
+          if (cell->face(f)->at_boundary() && open_boundaries.count(cell->face(f)->boundary_id()))
+          {
+            ffv.reinit(cell, f);
+            ffu.reinit(vcell, f);
+            ffu[vel].get_function_values(flow.velocity(), fu_new);
+            ffu[vel].get_function_values(flow.previous_velocity(), fu_old);
+            ffv.get_function_values(current, fval_old);
+            for (unsigned int q = 0; q < face_quad.size(); ++q)
+            {
+              const double un = 0.5 * (fu_new[q] + fu_old[q]) * ffv.normal_vector(q);
+              for (unsigned int i = 0; i < n; ++i)
+              {
+                const double vi = ffv.shape_value(i, q) * ffv.JxW(q);
+                if (un > 0)
+                {
+                  for (unsigned int j = 0; j < n; ++j)
+                    A(i, j) += 0.5 * un * ffv.shape_value(j, q) * vi;
+                  b(i) -= 0.5 * un * fval_old[q] * vi;
+                }
+                else
+                  b(i) -= un * inflow_value * vi;
+              }
+            }
+          }
+      cell->get_dof_indices(indices);
+      space.constraints().distribute_local_to_global(A, b, indices, matrix, rhs);
+    }
+    matrix.compress(VectorOperation::add);
+    rhs.compress(VectorOperation::add);
+
+    TrilinosWrappers::PreconditionILU ilu;
+    ilu.initialize(matrix);
+    space.reinit_owned(result);
+    result = current;
+    space.constraints().set_zero(result);
+    SolverControl control(1000, std::max(space.parameters().linear_tolerance * rhs.l2_norm(), 1e-300));
+    SolverGMRES<TrilinosWrappers::MPI::Vector> gmres(control, SolverGMRES<TrilinosWrappers::MPI::Vector>::AdditionalData(50));
+    gmres.solve(matrix, result, rhs, ilu);
+    space.constraints().distribute(result);
+    iterations += control.last_step();
+  }
+
+  template <int dim>
+  std::vector<double> LevelSetField<dim>::shock_capturing(const double dt,
+                                                          const TrilinosWrappers::MPI::Vector &provisional_owned) const
+  {
+    TrilinosWrappers::MPI::Vector provisional;
+    space.reinit_ghosted(provisional);
+    provisional = provisional_owned;
+    const auto        &fe = space.fe();
+    const QGauss<dim>  quad(fe.degree + 1);
+    const auto        &vdofs = flow.velocity_dof_handler();
+    FEValues<dim>      fev(space.mapping(), fe, quad, update_values | update_gradients);
+    FEValues<dim>      fvu(flow.get_mapping(), vdofs.get_fe(), quad, update_values | update_gradients);
+    const FEValuesExtractors::Vector vel(0);
+    const unsigned int nq = quad.size();
+    std::vector<Tensor<1, dim>> u_new(nq), u_old(nq), g_new(nq), g_old(nq);
+    std::vector<double> d_new(nq), d_old(nq), v_new(nq), v_old(nq);
+    const auto &tria = space.dof_handler().get_triangulation();
+    std::vector<double> nu(tria.n_active_cells(), 0.0);
+    const double c = space.parameters().shock_capturing;
+    for (const auto &cell : space.dof_handler().active_cell_iterators())
+    {
+      if (!cell->is_locally_owned())
+        continue;
+      fev.reinit(cell);
+      const typename DoFHandler<dim>::active_cell_iterator vcell(&tria, cell->level(), cell->index(), &vdofs);
+      fvu.reinit(vcell);
+      fvu[vel].get_function_values(flow.velocity(), u_new);
+      fvu[vel].get_function_values(flow.previous_velocity(), u_old);
+      fvu[vel].get_function_divergences(flow.velocity(), d_new);
+      fvu[vel].get_function_divergences(flow.previous_velocity(), d_old);
+      fev.get_function_values(provisional, v_new);
+      fev.get_function_values(current, v_old);
+      fev.get_function_gradients(provisional, g_new);
+      fev.get_function_gradients(current, g_old);
+      const double h = LevelSetSpace<dim>::cell_size(cell) / fe.degree;
+      double       ratio = 0, speed = 0;
+      for (unsigned int q = 0; q < nq; ++q)
+      {
+        const Tensor<1, dim> u = 0.5 * (u_new[q] + u_old[q]), g = 0.5 * (g_new[q] + g_old[q]);
+        const double R = (v_new[q] - v_old[q]) / dt + u * g + 0.5 * (v_new[q] + v_old[q]) * 0.5 * (d_new[q] + d_old[q]);
+        ratio = std::max(ratio, std::abs(R) / std::max(g.norm(), 1e-8 / h));
+        speed = std::max(speed, u.norm());
+      }
+      nu[cell->active_cell_index()] = std::min(c * h * ratio, 0.5 * h * speed);
+    }
+    return nu;
+  }
+
+  template <int dim>
+  void NclsTransport<dim>::advance(const double dt)
+  {
+    TimerOutput::Scope scope(this->space.timer(), "NCLS");
+    this->iterations = 0;
+    TrilinosWrappers::MPI::Vector next;
+    this->solve_transport(dt, false, nullptr, next);
+    this->before  = this->current;
+    this->current = next;
+    this->dt_last = dt;
+  }
+
+  template <int dim>
+  VofTransport<dim>::VofTransport(LevelSetSpace<dim> &space, const NavierStokes<dim> &flow,
+                                  const std::set<types::boundary_id> &open)
+    : LevelSetField<dim>(space, flow, "theta")
+  {
+    this->open_boundaries = open;
+    this->inflow_value    = 1.0; // air enters through open boundaries
+  }
+
+  template <int dim>
+  void VofTransport<dim>::advance(const double dt)
+  {
+    TimerOutput::Scope scope(this->space.timer(), "VOF");
+    this->iterations = 0;
+    TrilinosWrappers::MPI::Vector provisional, next;
+    this->solve_transport(dt, true, nullptr, provisional);
+    std::vector<double> nu;
+    if (this->space.parameters().shock_capturing > 0)
+    {
+      nu = this->shock_capturing(dt, provisional);
+      this->solve_transport(dt, true, &nu, next);
+    }
+    else
+      next = provisional;
+    this->before  = this->current;
+    this->current = next;
+    this->dt_last = dt;
+  }
+
+  template class NclsTransport<2>;
+  template class NclsTransport<3>;
+  template class VofTransport<2>;
+  template class VofTransport<3>;
+} // namespace twinflow::fem
+
+namespace twinflow::fem
+{
+  template void LevelSetField<2>::solve_transport(double, bool, const std::vector<double> *,
+                                                  dealii::TrilinosWrappers::MPI::Vector &);
+  template void LevelSetField<3>::solve_transport(double, bool, const std::vector<double> *,
+                                                  dealii::TrilinosWrappers::MPI::Vector &);
+  template std::vector<double> LevelSetField<2>::shock_capturing(double, const dealii::TrilinosWrappers::MPI::Vector &) const;
+  template std::vector<double> LevelSetField<3>::shock_capturing(double, const dealii::TrilinosWrappers::MPI::Vector &) const;
+} // namespace twinflow::fem
