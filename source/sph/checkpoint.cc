@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <vector>
 
 namespace twinflow::sph
 {
@@ -81,8 +82,44 @@ namespace twinflow::sph
       throw std::runtime_error("cannot rename the checkpoint " + tmp + " to " + path);
   }
 
+  namespace
+  {
+    /// A checkpoint with fewer particles than the scene generates (fluid removed at an open
+    /// top, open_boundary.h): its markers must be the scene's, in the same order; @p P becomes
+    /// the checkpoint's particle set (kinds, and each marker's wall velocity, acceleration,
+    /// normal and body from the scene; a fluid particle's are the generated defaults).
+    template <int dim>
+    void align_with_markers(const std::string &entry, const std::vector<std::int32_t> &kinds, HostParticles<dim> &P)
+    {
+      HostParticles<dim> a;
+      std::size_t        g = 0; // next generated particle
+      for (std::size_t j = 0; j < kinds.size(); ++j)
+      {
+        if (kinds[j] == ParticleKind::fluid)
+        {
+          a.add(P.x[0], P.u[0], 0, 0); // x, u, p, rho replaced by the checkpoint's
+          continue;
+        }
+        while (g < P.size() && P.kind[g] == ParticleKind::fluid)
+          ++g;
+        if (g == P.size() || P.kind[g] != kinds[j])
+          throw InputError(entry + ": particle " + std::to_string(j) + " is of another kind than in the scene (wall " +
+                           "or solid markers differ); restart with the scene that wrote it");
+        a.add(P.x[g], P.u[g], 0, 0, P.kind[g], P.normal[g], P.body[g]);
+        a.wall_velocity.back() = P.wall_velocity[g], a.wall_acceleration.back() = P.wall_acceleration[g];
+        ++g;
+      }
+      for (; g < P.size(); ++g)
+        if (P.kind[g] != ParticleKind::fluid)
+          throw InputError(entry + ": the checkpoint lacks wall or solid markers of the scene; restart with the "
+                           "scene that wrote it");
+      P = std::move(a);
+    }
+  } // namespace
+
   template <int dim>
-  RunPosition read_checkpoint(const std::string &path, const double spacing, HostParticles<dim> &P)
+  RunPosition read_checkpoint(const std::string &path, const double spacing, HostParticles<dim> &P,
+                              const bool fluid_may_leave)
   {
     Reader r{std::ifstream(path, std::ios::binary), path};
     const std::string entry = "SPH/Restart file = '" + path + "'";
@@ -100,7 +137,7 @@ namespace twinflow::sph
     if (std::abs(h - spacing) > 1e-12 * spacing)
       throw InputError(entry + ": written with SPH/Particle spacing = " + std::to_string(h) + ", the scene has " +
                        std::to_string(spacing) + "; restart with the scene that wrote it");
-    if (n != P.size())
+    if (n != P.size() && !(fluid_may_leave && n < P.size()))
       throw InputError(entry + ": the checkpoint has " + std::to_string(n) + " particles, the scene generates " +
                        std::to_string(P.size()) + "; restart with the scene that wrote it");
     RunPosition pos;
@@ -117,16 +154,21 @@ namespace twinflow::sph
     r.get(c.p.data(), n);
     r.get(c.rho.data(), n);
     r.get(kinds.data(), n);
-    for (std::size_t i = 0; i < n; ++i)
-      if (kinds[i] != P.kind[i])
-        throw InputError(entry + ": particle " + std::to_string(i) + " is of another kind than in the scene (fluid, " +
-                         "wall or solid markers differ); restart with the scene that wrote it");
+    if (n == P.size())
+    {
+      for (std::size_t i = 0; i < n; ++i)
+        if (kinds[i] != P.kind[i])
+          throw InputError(entry + ": particle " + std::to_string(i) + " is of another kind than in the scene (fluid, " +
+                           "wall or solid markers differ); restart with the scene that wrote it");
+    }
+    else
+      align_with_markers(entry, kinds, P); // fluid particles left through the open top
     P.x = std::move(c.x), P.u = std::move(c.u), P.p = std::move(c.p), P.rho = std::move(c.rho);
     return pos;
   }
 
   template void        write_checkpoint<2>(const std::string &, const HostParticles<2> &, double, const RunPosition &);
   template void        write_checkpoint<3>(const std::string &, const HostParticles<3> &, double, const RunPosition &);
-  template RunPosition read_checkpoint<2>(const std::string &, double, HostParticles<2> &);
-  template RunPosition read_checkpoint<3>(const std::string &, double, HostParticles<3> &);
+  template RunPosition read_checkpoint<2>(const std::string &, double, HostParticles<2> &, bool);
+  template RunPosition read_checkpoint<3>(const std::string &, double, HostParticles<3> &, bool);
 } // namespace twinflow::sph

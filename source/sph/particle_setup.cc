@@ -2,6 +2,7 @@
 
 #include <twinflow/core/errors.h>
 #include <twinflow/geometry/geometry.h>
+#include <twinflow/sph/open_boundary.h>
 
 #include <cmath>
 
@@ -70,9 +71,7 @@ namespace twinflow::sph
                              HostParticles<dim> &P)
   {
     P = HostParticles<dim>();
-    for (int f = 0; f < 2 * dim; ++f)
-      if (scene.boundary[f] == BoundaryKind::inflow || scene.boundary[f] == BoundaryKind::outflow)
-        throw InputError("Domain boundaries: inflow/outflow faces are not available in SPH yet; allowed: no slip, periodic");
+    const OpenFace open = open_face(scene); // throws for the inflow/outflow faces SPH cannot treat
     int                 n[3] = {1, 1, 1}, lo[3] = {0, 0, 0}, hi[3] = {1, 1, 1};
     geometry::Vec<dim>  box_lo, box_hi;
     for (int d = 0; d < dim; ++d)
@@ -110,6 +109,8 @@ namespace twinflow::sph
           const double       phi_s = solid_distance<dim>(scene, x, n_solid, solid_index);
           int                kind  = -1;
           geometry::Vec<dim> normal = geometry::Vec<dim>::zero();
+          if (!inside && open.active() && open.beyond(x[open.axis]))
+            continue; // the open top has no wall
           if (!inside)
           {
             kind   = ParticleKind::wall;

@@ -13,6 +13,7 @@
 #include <twinflow/sph/checkpoint.h>
 #include <twinflow/sph/front.h>
 #include <twinflow/sph/hydrostatic_check.h>
+#include <twinflow/sph/open_boundary.h>
 #include <twinflow/sph/snapshot.h>
 #include <twinflow/sph/sph_simulation.h>
 
@@ -56,10 +57,11 @@ namespace twinflow::sph
                          "nothing to measure; reduce the spacing");
 
       // Restart: the checkpoint replaces the generated particles' state (checkpoint.h).
-      const bool  restart = !prm.restart_file.empty();
-      RunPosition start;
+      const bool     restart = !prm.restart_file.empty();
+      const OpenFace open    = open_face(scene); // fluid leaving through it is removed
+      RunPosition    start;
       if (restart)
-        start = read_checkpoint<dim>(prm.restart_file, prm.spacing, P);
+        start = read_checkpoint<dim>(prm.restart_file, prm.spacing, P, open.active());
       const EngineSettings s = make_engine_settings(scene, prm);
       auto engine = make_engine<dim>(prm.backend, domain_box<dim>(scene), s);
       engine->set_particles(P);
@@ -68,6 +70,9 @@ namespace twinflow::sph
                                       " operators, " + engine->backend() + " backend)");
       result.active_physics.push_back(std::to_string(layers) + " BCE layers (" +
                                       (prm.neumann_walls ? "Neumann pressure rows" : "force-balance pressure rows") + ")");
+      if (open.active())
+        result.active_physics.push_back("open " + open.name + " (outflow): no BCE markers there; fluid particles "
+                                        "leaving through it are removed");
       if (s.free_surface)
       {
         std::ostringstream fs;
@@ -299,6 +304,12 @@ namespace twinflow::sph
                                    "particle state (last_good_state.csv, and last_good_state.bin to restart from) are in " +
                                    dir);
         }
+        if (open.active())
+        {
+          engine->get_particles(P);
+          if (remove_beyond(open, P) > 0)
+            engine->set_particles(P);
+        }
         dealii::Timer out_timer;
         monitors(t, dt, &r);
         snapshot(t);
@@ -381,6 +392,12 @@ namespace twinflow::sph
       summary.set_monitor_values(result.monitors);
       summary.set_extra("fluid particles", result.fluid_particles);
       summary.set_extra("BCE markers", result.markers);
+      if (open.active())
+      {
+        result.removed_particles =
+          result.fluid_particles - std::count(P.kind.begin(), P.kind.end(), int(ParticleKind::fluid));
+        summary.set_extra("fluid particles removed at the open " + open.name, result.removed_particles);
+      }
       summary.set_extra("backend", std::string(engine->backend()));
       if (restart) // wall time, steps per second and timers cover the restarted part only
         summary.set_extra("restarted from time [s]", start.time);
@@ -421,6 +438,7 @@ namespace twinflow::sph
     s.free_surface_divergence = prm.free_surface_divergence_ratio * scene.dimension;
     s.free_surface_min_neighbours = prm.free_surface_neighbour_ratio * full_support_count(scene.dimension, s.h / s.spacing);
     s.free_surface       = scene.fluid_region.has_value();
+    s.open_face          = open_face(scene).face;
     s.shifting           = prm.shifting;
     s.shifting_velocity_floor = prm.shifting_velocity_floor;
     for (int d = 0; d < 3; ++d)

@@ -231,6 +231,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       // 4. correction, Eq. 58, and position update
       detail::CorrectAndMove<dim> cm{ptr(kind), {}, ptr(wall_velocity), box, dt, 1.0 / settings.rho0, 0.25 * settings.spacing,
                                      ptr(x), ptr(u)};
+      cm.open_face = settings.open_face;
       for (int d = 0; d < dim; ++d)
       {
         spmv(nl.offsets, nl.indices, A.gradient[d], pressure, grad_p[d]);

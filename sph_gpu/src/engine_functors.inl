@@ -231,6 +231,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
     DomainBox<dim> box;
     double        dt, inv_rho0, margin;
     Vec<dim>     *x, *u;
+    int           open_face = -1; ///< EngineSettings::open_face: no wall there, nothing to keep out of
     TWINFLOW_HD void operator()(int i) const
     {
       if (kind[i] != ParticleKind::fluid)
@@ -243,16 +244,17 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
       for (int d = 0; d < dim; ++d)
         x[i][d] += dt * u[i][d];
       // Last-resort no-penetration of the domain walls: a fluid particle never enters the BCE
-      // layers (whose pressure rows cannot push it back once inside).
+      // layers (whose pressure rows cannot push it back once inside). An open face has no layers:
+      // fluid crosses it freely (the host removes it beyond, source/sph/open_boundary.cc).
       for (int d = 0; d < dim; ++d)
         if (!box.periodic[d])
         {
-          if (x[i][d] < box.lower[d] + margin)
+          if (x[i][d] < box.lower[d] + margin && open_face != 2 * d)
           {
             x[i][d] = box.lower[d] + margin;
             u[i][d] = u[i][d] < 0 ? 0.0 : u[i][d];
           }
-          else if (x[i][d] > box.upper[d] - margin)
+          else if (x[i][d] > box.upper[d] - margin && open_face != 2 * d + 1)
           {
             x[i][d] = box.upper[d] - margin;
             u[i][d] = u[i][d] > 0 ? 0.0 : u[i][d];

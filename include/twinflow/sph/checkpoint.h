@@ -35,9 +35,13 @@ namespace twinflow::sph
   /**
    * Reads the checkpoint @p path into @p P, which must hold the particles the scene generates
    * (same count and kinds, in the same order: the checkpoint replaces x, u, p and ρ; wall
-   * velocities, normals and bodies stay the scene's). Throws InputError naming the file and
-   * what does not match (not a checkpoint, other dimension, spacing or particle set).
+   * velocities, normals and bodies stay the scene's). With @p fluid_may_leave (a scene with an
+   * open top, open_boundary.h) the checkpoint may hold fewer fluid particles: its markers must
+   * then be the scene's in the same order, and @p P becomes the checkpoint's particle set.
+   * Throws InputError naming the file and what does not match (not a checkpoint, other
+   * dimension, spacing or particle set).
    */
   template <int dim>
-  RunPosition read_checkpoint(const std::string &path, double spacing, HostParticles<dim> &P);
+  RunPosition read_checkpoint(const std::string &path, double spacing, HostParticles<dim> &P,
+                              bool fluid_may_leave = false);
 } // namespace twinflow::sph

@@ -5,8 +5,10 @@
 
 namespace twinflow::sph
 {
-  /// Fills @p particles for @p scene with spacing @p dx and @p layers BCE layers; the fluid
-  /// starts at rest with hydrostatic pressure below its top. Returns the number of fluid particles.
+  /// Fills @p particles for @p scene with spacing @p dx and @p layers BCE layers (none beyond an
+  /// open top, open_boundary.h); the fluid starts at rest with hydrostatic pressure below its
+  /// top. Returns the number of fluid particles. Throws InputError for inflow/outflow faces
+  /// other than an open top.
   template <int dim>
   std::size_t make_particles(const Scene &scene, double dx, int layers, double rho0, HostParticles<dim> &particles);
 

@@ -48,6 +48,7 @@ namespace twinflow::sph
   struct SphRunResult
   {
     std::size_t                   fluid_particles = 0, markers = 0, steps = 0;
+    std::size_t                   removed_particles = 0; ///< fluid particles that left through an open top
     double                        wall_time = 0, final_time = 0;
     std::map<std::string, double> monitors;
     std::map<std::string, double> timings;   ///< seconds per phase (neighbours, assembly, solves, output)

@@ -49,6 +49,10 @@ namespace twinflow::sph
     double             density_relaxation_time = 0;
     /// conditioning checks of the consistent corrections (CorrectionChecks; default: none)
     CorrectionChecks   correction_checks;
+    /// face without BCE markers that fluid may cross (open top: 2 axis + 1 for the upper face of
+    /// direction axis, 2 axis for the lower; −1: none): the last-resort clamp that keeps fluid
+    /// inside the box skips it; the host removes the particles beyond (sph/open_boundary.h)
+    int                open_face = -1;
   };
 
   /// Particles in host memory (structure of arrays).
