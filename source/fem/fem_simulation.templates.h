@@ -7,6 +7,7 @@
 #include <twinflow/io/mpi_utils.h>
 #include <twinflow/io/progress.h>
 #include <twinflow/io/pvd_series.h>
+#include <twinflow/io/snapshots.h>
 
 #include <deal.II/base/conditional_ostream.h>
 #include <deal.II/base/function.h>
@@ -420,6 +421,12 @@ namespace twinflow::fem
       write_output();
     if (ls_space && ns.n_steps() == 0)
       record_free_surface(0, 0);
+    if (ls_space && !scene.snapshot_times.empty())
+    {
+      snapshots = std::make_unique<io::SnapshotSchedule>(scene.snapshot_times, t0, !prm.restart_file.empty());
+      for (const double s : snapshots->due(t0))
+        write_snapshot(s);
+    }
     if (prm.checkpoint_interval > 0)
       next_checkpoint = (std::floor(t0 / prm.checkpoint_interval + 1e-9) + 1) * prm.checkpoint_interval;
     while (ns.time() < scene.end_time * (1 - 1e-12) && !steady)
@@ -440,6 +447,9 @@ namespace twinflow::fem
                                  std::to_string(ns.n_steps()) + "): reduce FEM/Time step or FEM/CFL number. "
                                  "Monitors written so far are kept in " + dir);
       record(dt, st.divergence_l2);
+      if (snapshots)
+        for (const double s : snapshots->due(ns.time()))
+          write_snapshot(s);
       if (scene.output_interval > 0 && ns.time() >= next_output * (1 - 1e-9))
       {
         write_output();

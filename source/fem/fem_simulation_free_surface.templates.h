@@ -5,6 +5,11 @@
 #include <twinflow/fem/fem_simulation.h>
 #include <twinflow/geometry/box.h>
 #include <twinflow/io/csv_monitor.h>
+#include <twinflow/io/mpi_utils.h>
+#include <twinflow/io/snapshots.h>
+
+#include <fstream>
+#include <iomanip>
 
 #include <deal.II/base/function.h>
 
@@ -179,5 +184,35 @@ namespace twinflow::fem
     result.monitors["kinetic energy"]             = m.kinetic_water;
     result.monitors["total energy"]               = e_water;
     result.monitors["system energy"]              = e_all;
+  }
+
+  template <int dim>
+  void FemSimulation<dim>::write_snapshot(const double time) const
+  {
+    std::vector<double> local;
+    for (const auto &[i, x] : ls_space->support_points())
+    {
+      for (unsigned int d = 0; d < dim; ++d)
+        local.push_back(x[d]);
+      local.push_back(ncls->value()[i]);
+    }
+    const auto parts = Utilities::MPI::gather(comm, local, 0);
+    if (!io::is_root_process(comm))
+      return;
+    io::ensure_directory(dir + "/snapshots");
+    const std::string file = dir + "/snapshots/" + io::snapshot_file_name("fem", time);
+    std::ofstream     out(file);
+    out << "# twinflow FEM snapshot: level set phi at the nodes (water where phi < 0), requested t = " << time
+        << " s, written at t = " << navier_stokes->time() << " s\n";
+    out << (dim == 2 ? "x [m],y [m],phi [m]\n" : "x [m],y [m],z [m],phi [m]\n");
+    out << std::setprecision(9);
+    for (const auto &part : parts)
+      for (std::size_t k = 0; k + dim < part.size() + 0; k += dim + 1)
+      {
+        for (unsigned int d = 0; d <= dim; ++d)
+          out << part[k + d] << (d == dim ? '\n' : ',');
+      }
+    if (!out)
+      throw std::runtime_error("cannot write the snapshot " + file);
   }
 } // namespace twinflow::fem

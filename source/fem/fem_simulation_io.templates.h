@@ -7,6 +7,7 @@
 #include <twinflow/io/mpi_utils.h>
 #include <twinflow/io/pvd_series.h>
 #include <twinflow/io/summary.h>
+#include <twinflow/io/front_reference.h>
 
 #include <deal.II/numerics/data_out.h>
 
@@ -245,6 +246,8 @@ namespace twinflow::fem
       summary.add_error("energy rise above the initial value (max over the run)", worst_energy_rise, 0.0, 5e-3,
                         "kinetic + potential energy of both phases; a dam break is dissipative");
     }
+    if (ls_space)
+      io::add_front_reference_errors(scene, front_time, front_position, summary, result.monitors);
     summary.set_monitor_values(result.monitors);
     summary.set_extra("active physics", internal::join(result.active_physics, "; "));
     summary.set_extra("mpi ranks", Utilities::MPI::n_mpi_processes(comm));

@@ -37,6 +37,11 @@ namespace twinflow::fem
     // Samples packed as x (dim), unit normal (dim), patch radius.
     constexpr unsigned int stride = 2 * dim + 1;
     std::vector<double>    local;
+    // Nodes of cut cells keep their zero level: they are only rescaled by the mean |∇φ| of
+    // their cut cells (a common factor per cell leaves that cell's zero level where it is).
+    TrilinosWrappers::MPI::Vector gradient_sum, cut_count;
+    gradient_sum.reinit(space.owned(), space.relevant(), space.communicator(), true);
+    cut_count.reinit(space.owned(), space.relevant(), space.communicator(), true);
     std::vector<types::global_dof_index> indices(n);
     std::vector<double>    values(n);
     for (const auto &cell : space.dof_handler().active_cell_iterators())
@@ -60,6 +65,20 @@ namespace twinflow::fem
           J[e][d] = cell->vertex(1u << d)[e] - cell->vertex(0)[e];
       const Tensor<2, dim> JinvT = transpose(invert(J));
       const double         h     = LevelSetSpace<dim>::cell_size(cell);
+      {
+        Point<dim> centre;
+        for (unsigned int d = 0; d < dim; ++d)
+          centre[d] = 0.5;
+        Tensor<1, dim> g;
+        for (unsigned int i = 0; i < n; ++i)
+          g += values[i] * fe.shape_grad(i, centre);
+        const double slope = (JinvT * g).norm();
+        for (unsigned int i = 0; i < n; ++i)
+        {
+          gradient_sum[indices[i]] += slope;
+          cut_count[indices[i]] += 1;
+        }
+      }
       for (unsigned int k = 0; k < Utilities::pow(m, dim); ++k)
       {
         Point<dim> xi;
@@ -96,6 +115,8 @@ namespace twinflow::fem
         local.push_back(0.75 * h / m);
       }
     }
+    gradient_sum.compress(VectorOperation::add);
+    cut_count.compress(VectorOperation::add);
     const auto gathered = Utilities::MPI::all_gather(space.communicator(), local);
     std::vector<std::pair<Point<dim>, unsigned int>> leaves;
     std::vector<double>                              data;
@@ -120,6 +141,12 @@ namespace twinflow::fem
     for (const auto &[i, x] : space.support_points())
     {
       const double old = phi[i];
+      if (cut_count[i] > 0)
+      {
+        const double slope = gradient_sum[i] / cut_count[i];
+        next[i]            = slope > 0 ? old / slope : old;
+        continue;
+      }
       nearest.clear();
       tree.query(boost::geometry::index::nearest(x, k), std::back_inserter(nearest));
       double d = std::numeric_limits<double>::max();

@@ -6,6 +6,8 @@
 
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/dofs/dof_tools.h>
+#include <deal.II/lac/solver_cg.h>
+#include <deal.II/lac/solver_control.h>
 #include <deal.II/lac/sparsity_tools.h>
 #include <deal.II/numerics/vector_tools.h>
 
@@ -89,25 +91,34 @@ namespace twinflow::fem
     DoFTools::make_sparsity_pattern(dofs, dsp, mesh_constraints, false);
     SparsityTools::distribute_sparsity_pattern(dsp, owned_dofs, comm, relevant_dofs);
 
-    // Lumped mass of the constrained basis: the rows of M 1.
+    // Mass matrix and its lumped form (the rows of M 1) of the constrained basis.
     reinit_owned(lumped);
+    mass.reinit(owned_dofs, owned_dofs, dsp, comm);
     const QGauss<dim>  quad(prm.degree + 1);
     FEValues<dim>      fev(map, finite_element, quad, update_values | update_JxW_values);
     const unsigned int n = finite_element.n_dofs_per_cell();
     Vector<double>     local(n);
+    FullMatrix<double> local_mass(n, n);
     std::vector<types::global_dof_index> indices(n);
     for (const auto &cell : dofs.active_cell_iterators())
       if (cell->is_locally_owned())
       {
         fev.reinit(cell);
-        local = 0;
+        local      = 0;
+        local_mass = 0;
         for (unsigned int q = 0; q < quad.size(); ++q)
           for (unsigned int i = 0; i < n; ++i)
+          {
             local(i) += fev.shape_value(i, q) * fev.JxW(q);
+            for (unsigned int j = 0; j < n; ++j)
+              local_mass(i, j) += fev.shape_value(i, q) * fev.shape_value(j, q) * fev.JxW(q);
+          }
         cell->get_dof_indices(indices);
-        mesh_constraints.distribute_local_to_global(local, indices, lumped);
+        mesh_constraints.distribute_local_to_global(local_mass, local, indices, mass, lumped);
       }
     lumped.compress(VectorOperation::add);
+    mass.compress(VectorOperation::add);
+    mass_preconditioner.initialize(mass);
 
     points.clear();
     std::map<types::global_dof_index, Point<dim>> all;
@@ -189,12 +200,17 @@ namespace twinflow::fem
         mesh_constraints.distribute_local_to_global(local, indices, rhs);
       }
     rhs.compress(VectorOperation::add);
-    for (const auto i : owned_dofs)
+    TrilinosWrappers::MPI::Vector x;
+    reinit_owned(x);
+    for (const auto i : owned_dofs) // lumped projection: the initial guess
       if (!mesh_constraints.is_constrained(i))
-        rhs[i] = lumped[i] > 0 ? rhs[i] / lumped[i] : 0;
-    rhs.compress(VectorOperation::insert);
-    mesh_constraints.distribute(rhs);
-    theta = rhs;
+        x[i] = lumped[i] > 0 ? rhs[i] / lumped[i] : 0;
+    x.compress(VectorOperation::insert);
+    SolverControl control(500, std::max(1e-13 * rhs.l2_norm(), 1e-300));
+    SolverCG<TrilinosWrappers::MPI::Vector> cg(control);
+    cg.solve(mass, x, rhs, mass_preconditioner);
+    mesh_constraints.distribute(x);
+    theta = x;
   }
 
   template <int dim>

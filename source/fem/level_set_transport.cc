@@ -201,6 +201,13 @@ namespace twinflow::fem
     this->iterations = 0;
     TrilinosWrappers::MPI::Vector next;
     this->solve_transport(dt, false, nullptr, next);
+    if (this->space.parameters().shock_capturing > 0)
+    {
+      // Residual-based shock capturing as for θ: SUPG alone leaves crosswind wiggles that cut
+      // zero far from Γ (islands of water) at corners of under-resolved shapes.
+      const std::vector<double> nu = this->shock_capturing(dt, next);
+      this->solve_transport(dt, false, &nu, next);
+    }
     this->before  = this->current;
     this->current = next;
     this->dt_last = dt;

@@ -136,6 +136,8 @@ namespace twinflow::fem
       DoFTools::make_sparsity_pattern(velocity_dofs, dsp, velocity_constraints, false);
       SparsityTools::distribute_sparsity_pattern(dsp, velocity_owned, comm, velocity_relevant);
       velocity_matrix.reinit(velocity_owned, velocity_owned, dsp, comm);
+      if (prm.variable_projection)
+        velocity_mass.reinit(velocity_owned, velocity_owned, dsp, comm);
     }
     {
       DynamicSparsityPattern dsp(pressure_relevant);
@@ -287,8 +289,11 @@ namespace twinflow::fem
     std::vector<double>         s(n), fraction(nq);
     std::vector<Tensor<1, dim>> ds(n), u_star(nq);
     MaterialValues<dim>         mat;
-    const double pressure_w1 = (prm.scheme == TimeScheme::bdf2) ? 4. / 3. : 1.;
-    const double pressure_w2 = (prm.scheme == TimeScheme::bdf2) ? -1. / 3. : 0.;
+    // Guermond–Salgado: p^# = p^n + 4/3 φ^n − 1/3 φ^{n−1} (BDF2) or p^n + φ^n; the variable-
+    // density projection corrects the velocity itself, so the standard incremental p^# = p^n.
+    const bool   projected   = prm.variable_projection && !material.is_constant();
+    const double pressure_w1 = projected ? 0. : (prm.scheme == TimeScheme::bdf2) ? 4. / 3. : 1.;
+    const double pressure_w2 = projected ? 0. : (prm.scheme == TimeScheme::bdf2) ? -1. / 3. : 0.;
     if (acceleration) acceleration->set_time(t_new);
     if (force_density) force_density->set_time(t_new);
     std::vector<const MomentumTerm<dim> *> active_terms;
@@ -344,11 +349,11 @@ namespace twinflow::fem
           if (force_density) rhs[d] += w * f_val[q](d);
         }
         const double p_sharp = p_val[q] + pressure_w1 * phi_val[q] + pressure_w2 * phim_val[q];
-        // Streamline diffusion: c τ ρ (u*·∇ũ)(u*·∇v), τ = (4/τ² + 4|u*|²/h²)^{-1/2}.
+        // Streamline diffusion: c τ ρ (u*·∇ũ)(u*·∇v), τ = h/(2|u*|): the steady SUPG parameter
+        // (with a 2/dt term τ would vanish as dt → 0 and small CFL steps lose the stabilisation).
         const double speed = u_star[q].norm();
-        const double sd    = prm.streamline_diffusion > 0
-                               ? prm.streamline_diffusion * rho /
-                                   std::sqrt(4.0 / (dt * dt) + 4.0 * speed * speed / (h_cell * h_cell))
+        const double sd    = prm.streamline_diffusion > 0 && speed > 0
+                               ? prm.streamline_diffusion * rho * h_cell / (2 * speed)
                                : 0.0;
         for (unsigned int i = 0; i < n; ++i)
         {
@@ -499,9 +504,73 @@ namespace twinflow::fem
     TrilinosWrappers::MPI::Vector p(pressure_owned, comm);
     p = p_n;
     p += phi;
+    if (variable)
+      correct_velocity(dt, c, phi);
     phi_nm1 = phi_n;
     phi_n   = phi;
     p_n     = p;
     return control.last_step();
+  }
+
+  template <int dim>
+  void NavierStokes<dim>::correct_velocity(const double dt, const BdfCoefficients &c,
+                                           const TrilinosWrappers::MPI::Vector &phi_owned)
+  {
+    TrilinosWrappers::MPI::Vector phi(pressure_owned, pressure_relevant, comm);
+    phi = phi_owned;
+    velocity_mass = 0;
+    velocity_rhs  = 0;
+    const QGauss<dim>  quad(fe_velocity.degree + 1);
+    FEValues<dim>      fev(mapping, fe_velocity, quad, update_values | update_JxW_values | update_quadrature_points);
+    FEValues<dim>      fep(mapping, fe_pressure, quad, update_gradients);
+    const unsigned int n = fe_velocity.n_dofs_per_cell();
+    FullMatrix<double> cell_matrix(n, n);
+    Vector<double>     cell_rhs(n);
+    std::vector<types::global_dof_index> indices(n);
+    std::vector<Tensor<1, dim>> u(quad.size()), grad_phi(quad.size());
+    std::vector<unsigned int>   comp(n);
+    for (unsigned int i = 0; i < n; ++i)
+      comp[i] = fe_velocity.system_to_component_index(i).first;
+    const FEValuesExtractors::Vector vel(0);
+    MaterialValues<dim> mat;
+    for (const auto &cell : velocity_dofs.active_cell_iterators())
+      if (cell->is_locally_owned())
+      {
+        fev.reinit(cell);
+        const typename DoFHandler<dim>::active_cell_iterator pcell(&tria, cell->level(), cell->index(), &pressure_dofs);
+        fep.reinit(pcell);
+        fev[vel].get_function_values(u_n, u);
+        fep.get_function_gradients(phi, grad_phi);
+        material.evaluate(cell, fev.get_quadrature_points(), current_time + dt, mat);
+        cell_matrix = 0;
+        cell_rhs    = 0;
+        for (unsigned int q = 0; q < quad.size(); ++q)
+        {
+          const double         rho = mat.density[q], JxW = fev.JxW(q);
+          const Tensor<1, dim> target = rho * u[q] - dt / c.a0 * grad_phi[q];
+          for (unsigned int i = 0; i < n; ++i)
+          {
+            const double si = fev.shape_value(i, q);
+            for (unsigned int j = 0; j < n; ++j)
+              if (comp[i] == comp[j])
+                cell_matrix(i, j) += rho * si * fev.shape_value(j, q) * JxW;
+            cell_rhs(i) += target[comp[i]] * si * JxW;
+          }
+        }
+        cell->get_dof_indices(indices);
+        velocity_constraints.distribute_local_to_global(cell_matrix, cell_rhs, indices, velocity_mass, velocity_rhs);
+      }
+    velocity_mass.compress(VectorOperation::add);
+    velocity_rhs.compress(VectorOperation::add);
+    TrilinosWrappers::MPI::Vector x(velocity_owned, comm);
+    x = u_n;
+    velocity_constraints.set_zero(x);
+    TrilinosWrappers::PreconditionJacobi jacobi;
+    jacobi.initialize(velocity_mass);
+    SolverControl control(2000, std::max(prm.linear_tolerance * velocity_rhs.l2_norm(), 1e-300));
+    SolverCG<TrilinosWrappers::MPI::Vector> cg(control);
+    cg.solve(velocity_mass, x, velocity_rhs, jacobi);
+    velocity_constraints.distribute(x);
+    u_n = x;
   }
 } // namespace twinflow::fem

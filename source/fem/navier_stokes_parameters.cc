@@ -26,8 +26,8 @@ namespace twinflow::fem
                       "(matrix rebuilt every step).");
     prm.declare_entry("Streamline diffusion", "0", Double(0, 10),
                       "c of the streamline-diffusion stabilisation of the convection term, "
-                      "c tau_K rho (u*.grad u)(u*.grad v) with tau_K = (4/dt^2 + 4|u*|^2/h_K^2)^(-1/2) (adds at most "
-                      "c rho h |u| / 2 along streamlines; 0: Galerkin). Free-surface scenes need it: the air "
+                      "c tau_K rho (u*.grad u)(u*.grad v) with tau_K = h_K / (2 |u*|) (c rho h |u| / 2 "
+                      "along streamlines; 0: Galerkin). Free-surface scenes need it: the air "
                       "(rho 1.2, mu 1.8e-5) has cell Reynolds numbers of 1e3 and more.");
     prm.declare_entry("Velocity preconditioner", "amg", Selection("amg|ilu"),
                       "Preconditioner of the velocity GMRES: Trilinos ML AMG (Gauss-Seidel smoothing) or ILU(0).");

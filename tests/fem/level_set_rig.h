@@ -130,6 +130,10 @@ namespace twinflow::testing
     Rotation    rotation;
     LevelSetRig rig(refinements, disk, rotation, mass_correction);
     rig.redistance->redistance();
+    TrilinosWrappers::MPI::Vector theta; // θ of the redistanced initial level set
+    rig.space->reinit_ghosted(theta);
+    rig.space->project_heaviside(rig.ncls->value(), theta);
+    rig.vof->set(theta);
     const double v0    = rig.space->water_volume(rig.ncls->value());
     const double h     = 1.0 / (1u << refinements);
     const unsigned int steps = std::lround(1.0 / (0.5 * h / (2 * numbers::PI * 0.5)));

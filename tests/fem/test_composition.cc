@@ -66,6 +66,31 @@ TEST(Composition, PeriodicDirectionIsReported)
   EXPECT_EQ(r.dofs, 2u * 9 * 5 + 5 * 3);
 }
 
+TEST(Composition, FreeSurfaceBuildsTheLevelSetOnlyWhenTheSceneHasOne)
+{
+  {
+    const auto [scene, prm] = load("");
+    fem::FemSimulation<2> sim(scene, prm, "composition_single_phase");
+    EXPECT_EQ(sim.level_set(), nullptr);
+    EXPECT_EQ(sim.level_set_space(), nullptr);
+    EXPECT_EQ(sim.physics_list().size(), 1u);
+  }
+  {
+    const auto [scene, prm] = load("subsection Fluids\n set Number of fluids = 2\n set Initial region of fluid 1 = 0, 0; 1, 0.5\n"
+                                   " subsection Fluid 2\n  set Density = 1.2\n end\nend\n"
+                                   "subsection Forces\n set Gravity = 0, -9.81\nend\n");
+    fem::FemSimulation<2> sim(scene, prm, "composition_two_phase_built");
+    ASSERT_NE(sim.level_set(), nullptr);
+    // Algorithm 1 in order: space, Navier-Stokes, NCLS, VOF, redistancing, mass correction.
+    std::vector<std::string> names;
+    for (const auto *p : sim.physics_list())
+      names.push_back(p->name());
+    EXPECT_EQ(names, (std::vector<std::string>{"level-set space", "navier-stokes", "NCLS", "VOF", "redistancing",
+                                               "mass correction"}));
+    EXPECT_TRUE(mentions(sim.active_physics(), "level set"));
+  }
+}
+
 TEST(Composition, UnavailableModulesAreRefusedClearly)
 {
   {
@@ -73,7 +98,7 @@ TEST(Composition, UnavailableModulesAreRefusedClearly)
     try
     {
       fem::run_fem<2>(scene, prm, "composition_two_phase");
-      FAIL() << "two fluids must be refused by the FEM until the level set exists";
+      FAIL() << "two fluids without an initial water region must be refused";
     }
     catch (const InputError &e)
     {

@@ -24,6 +24,7 @@
 namespace twinflow::io
 {
   class CsvMonitor;
+  class SnapshotSchedule;
   class PvdSeries;
 } // namespace twinflow::io
 
@@ -106,6 +107,8 @@ namespace twinflow::fem
     void initialize_free_surface();
     void record(double dt, double divergence);
     void record_free_surface(double dt, double divergence);
+    /// Nodal x, y(, z), φ of the level set into <dir>/snapshots/fem_t<time>.csv (root writes).
+    void write_snapshot(double time) const;
     void write_output();
     void write_summary();
 
@@ -136,6 +139,7 @@ namespace twinflow::fem
     /// Free-surface history for the summary: initial volume and energy, worst drift and rise.
     double initial_volume = 0, initial_energy = 0, worst_volume_drift = 0, worst_energy_rise = 0;
     std::vector<double> front_time, front_position;
+    std::unique_ptr<io::SnapshotSchedule> snapshots;
     std::unique_ptr<io::PvdSeries>  pvd;
     unsigned int                    output_count = 0;
     double                          next_output = 0, next_checkpoint = 0, coefficient_scale = 0;

@@ -128,7 +128,9 @@ namespace twinflow::fem
       return typename dealii::DoFHandler<dim>::active_cell_iterator(&tria, cell->level(), cell->index(), &dofs);
     }
 
-    /// Lumped L² projection of H_ε(φ) into @p theta (bounded in [0, 1], ∫θ = ∫H_ε(φ) exactly).
+    /// L² projection of H_ε(φ) into @p theta: ∫(θ − H_ε(φ)) v = 0 for every v of the space, so
+    /// ∫θ = ∫H_ε(φ) and, at rest, the mass correction's residual vanishes (a lumped projection
+    /// would smooth θ and the correction would erode the shape step after step).
     void project_heaviside(const dealii::TrilinosWrappers::MPI::Vector &phi,
                            dealii::TrilinosWrappers::MPI::Vector       &theta) const;
     /// ∫(1 − H_ε(φ)): the water volume (the quadrature the mass correction uses).
@@ -150,6 +152,8 @@ namespace twinflow::fem
     dealii::AffineConstraints<double>                  mesh_constraints;
     dealii::DynamicSparsityPattern                     dsp;
     dealii::TrilinosWrappers::MPI::Vector              lumped;
+    dealii::TrilinosWrappers::SparseMatrix             mass;
+    dealii::TrilinosWrappers::PreconditionJacobi       mass_preconditioner;
     std::map<dealii::types::global_dof_index, dealii::Point<dim>> points;
     struct Periodic { dealii::types::boundary_id b1, b2; unsigned int direction; };
     std::vector<Periodic>     periodic;
@@ -234,12 +238,13 @@ namespace twinflow::fem
   };
 
   /**
-   * Eq. 14 solved for its steady state directly: φ ← sign(φ) dist(x, Γ) at every DoF, Γ the
-   * zero level of the current Q_k field, sampled in every cut cell (points projected onto
-   * φ = 0 by Newton in reference coordinates, with their normals) and gathered on all ranks;
-   * the distance is to the tangent plane of the nearest samples (to the sample itself when
-   * the point lies beyond the sample's patch). The zero level moves only by the sampling
-   * error (measured in tests).
+   * Eq. 14 solved for its steady state directly, with the zero level held: the DoFs of cut
+   * cells are divided by the mean |∇φ| of their cut cells (one factor per cell keeps that
+   * cell's zero level; a node shared by cut cells of different slopes moves it by their
+   * difference only); every other DoF gets sign(φ) dist(x, Γ), Γ the zero level of the current
+   * Q_k field sampled in every cut cell (points projected onto φ = 0 by Newton in reference
+   * coordinates, with their normals) and gathered on all ranks; the distance is to the tangent
+   * plane of the nearest samples (to the sample itself beyond the sample's patch).
    */
   template <int dim>
   class Redistancing : public FieldPhysics<dim>

@@ -169,6 +169,8 @@ namespace twinflow::fem
     void assemble_velocity_system(double dt, const BdfCoefficients &c);
     unsigned int solve_velocity();
     unsigned int solve_pressure_increment(double dt, const BdfCoefficients &c);
+    /// Variable-density projection: u^{n+1} = ũ − (τ/(α0 ρ))∇φ, L²(ρ)-projected onto V_h.
+    void         correct_velocity(double dt, const BdfCoefficients &c, const dealii::TrilinosWrappers::MPI::Vector &phi);
 
     MPI_Comm                                           comm;
     dealii::parallel::distributed::Triangulation<dim> &tria;
@@ -190,7 +192,7 @@ namespace twinflow::fem
       increment_constraints;
     bool pressure_floating = false;
 
-    dealii::TrilinosWrappers::SparseMatrix velocity_matrix, pressure_laplace;
+    dealii::TrilinosWrappers::SparseMatrix velocity_matrix, pressure_laplace, velocity_mass;
     dealii::TrilinosWrappers::PreconditionAMG velocity_amg, pressure_amg;
     dealii::TrilinosWrappers::PreconditionILU velocity_ilu;
     dealii::TrilinosWrappers::MPI::Vector     velocity_rhs, pressure_rhs;
