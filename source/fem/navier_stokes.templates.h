@@ -145,7 +145,8 @@ namespace twinflow::fem
       SparsityTools::distribute_sparsity_pattern(dsp, pressure_owned, comm, pressure_relevant);
       pressure_laplace.reinit(pressure_owned, pressure_owned, dsp, comm);
     }
-    assemble_pressure_laplacian();
+    if (!(prm.variable_projection && !material.is_constant())) // else rebuilt every step
+      assemble_pressure_laplacian();
     rebuild_velocity_preconditioner = true;
 
     velocity_rhs.reinit(velocity_owned, comm);
@@ -178,7 +179,12 @@ namespace twinflow::fem
         increment_constraints.distribute_local_to_global(cell_matrix, indices, pressure_laplace);
       }
     pressure_laplace.compress(VectorOperation::add);
+    initialize_pressure_amg();
+  }
 
+  template <int dim>
+  void NavierStokes<dim>::initialize_pressure_amg()
+  {
     TrilinosWrappers::PreconditionAMG::AdditionalData amg;
     amg.elliptic              = true;
     amg.higher_order_elements = fe_pressure.degree > 1;
@@ -485,12 +491,7 @@ namespace twinflow::fem
     if (variable)
     {
       pressure_laplace.compress(VectorOperation::add);
-      TrilinosWrappers::PreconditionAMG::AdditionalData amg;
-      amg.elliptic              = true;
-      amg.higher_order_elements = fe_pressure.degree > 1;
-      amg.smoother_sweeps       = 2;
-      amg.aggregation_threshold = 0.02;
-      pressure_amg.initialize(pressure_laplace, amg);
+      initialize_pressure_amg();
     }
     stats.divergence_l2 = std::sqrt(Utilities::MPI::sum(div_sq, comm));
 

@@ -166,6 +166,8 @@ namespace twinflow::fem
     void make_mesh_constraints(const dealii::DoFHandler<dim> &dofs, const dealii::IndexSet &relevant,
                                dealii::AffineConstraints<double> &c) const;
     void assemble_pressure_laplacian();
+    /// AMG of the current pressure_laplace (mesh Laplacian, or the ρ⁻¹-weighted one per step).
+    void initialize_pressure_amg();
     void assemble_velocity_system(double dt, const BdfCoefficients &c);
     unsigned int solve_velocity();
     unsigned int solve_pressure_increment(double dt, const BdfCoefficients &c);
