@@ -244,6 +244,7 @@ namespace twinflow::fem
     // The space (first in the physics list) has distributed the DoFs already.
     space.reinit_ghosted(current);
     space.reinit_ghosted(before);
+    space.reinit_ghosted(before_previous);
     matrix.reinit(space.owned(), space.owned(), space.sparsity(), space.communicator());
   }
 
@@ -254,8 +255,18 @@ namespace twinflow::fem
     space.reinit_owned(v);
     VectorTools::interpolate(space.mapping(), space.dof_handler(), f, v);
     space.constraints().distribute(v);
-    current = v;
-    before  = v;
+    current         = v;
+    before          = v;
+    before_previous = v;
+  }
+
+  template <int dim>
+  void LevelSetField<dim>::push(const TrilinosWrappers::MPI::Vector &next, const double dt)
+  {
+    before_previous = before;
+    before          = current;
+    current         = next;
+    dt_last         = dt;
   }
 
   template <int dim>
@@ -272,7 +283,7 @@ namespace twinflow::fem
   void LevelSetField<dim>::prepare_transfer(const bool serialization)
   {
     transfer = std::make_unique<Transfer>(space.dof_handler());
-    const std::vector<const TrilinosWrappers::MPI::Vector *> v{&current, &before};
+    const std::vector<const TrilinosWrappers::MPI::Vector *> v{&current, &before, &before_previous};
     if (serialization)
       transfer->prepare_for_serialization(v);
     else
@@ -285,18 +296,19 @@ namespace twinflow::fem
     if (serialization)
       transfer = std::make_unique<Transfer>(space.dof_handler());
     AssertThrow(transfer, ExcMessage(field_name + ": finish_transfer without prepare_transfer"));
-    std::vector<TrilinosWrappers::MPI::Vector> fresh(2);
+    std::vector<TrilinosWrappers::MPI::Vector> fresh(3);
     for (auto &v : fresh)
       space.reinit_owned(v);
-    std::vector<TrilinosWrappers::MPI::Vector *> out{&fresh[0], &fresh[1]};
+    std::vector<TrilinosWrappers::MPI::Vector *> out{&fresh[0], &fresh[1], &fresh[2]};
     if (serialization)
       transfer->deserialize(out);
     else
       transfer->interpolate(out);
     for (auto &v : fresh)
       space.constraints().distribute(v);
-    current = fresh[0];
-    before  = fresh[1];
+    current         = fresh[0];
+    before          = fresh[1];
+    before_previous = fresh[2];
     transfer.reset();
   }
 
@@ -348,30 +360,31 @@ namespace twinflow::fem
     values.resize(nq);
     phi.resize(nq);
     phi_old.resize(nq);
-    grad_phi.resize(nq);
+    phi_older.resize(nq);
     fev->get_function_values(ncls->value(), phi);
     fev->get_function_values(ncls->previous(), phi_old);
-    fev->get_function_gradients(ncls->value(), grad_phi);
+    fev->get_function_values(ncls->older(), phi_older);
     const double eps = space.epsilon(cell);
     const double dr = fluids.rho_air - fluids.rho_water, dm = fluids.mu_air - fluids.mu_water;
-    const double dt = ncls->last_step();
     // ρ enters the momentum equation as its cell mean ρ̄_K: gravity ρ̄_K g is then balanced
     // exactly by the Q1 interpolant of the hydrostatic pressure wherever the surface is level
     // across a cell (the slope of p_h in a cell is the column mean of ρ g); with ρ at the
     // quadrature points the light side of the band would see ∇p_h of the heavy side, an
     // acceleration ∼ g ρ̄/ρ(φ) (hundreds of g at 1000:1). μ is evaluated pointwise.
     const auto &weights = fev->get_quadrature().get_weights();
-    double      mean = 0, weight = 0;
+    double      mean[3] = {0, 0, 0}, weight = 0;
     for (unsigned int q = 0; q < nq; ++q)
     {
       const double H = smoothed_heaviside(phi[q], eps);
-      mean += weights[q] * (fluids.rho_water + dr * H);
+      mean[0] += weights[q] * (fluids.rho_water + dr * H);
+      mean[1] += weights[q] * (fluids.rho_water + dr * smoothed_heaviside(phi_old[q], eps));
+      mean[2] += weights[q] * (fluids.rho_water + dr * smoothed_heaviside(phi_older[q], eps));
       weight += weights[q];
-      values.viscosity[q]        = fluids.mu_water + dm * H;
-      values.density_gradient[q] = dr * smoothed_delta(phi[q], eps) * grad_phi[q];
-      values.density_rate[q] = dt > 0 ? dr * (H - smoothed_heaviside(phi_old[q], eps)) / dt : 0.0;
+      values.viscosity[q] = fluids.mu_water + dm * H;
     }
-    std::fill(values.density.begin(), values.density.end(), mean / weight);
+    std::fill(values.density.begin(), values.density.end(), mean[0] / weight);
+    std::fill(values.density_previous.begin(), values.density_previous.end(), mean[1] / weight);
+    std::fill(values.density_older.begin(), values.density_older.end(), mean[2] / weight);
   }
 
   // ---------------------------------------------------------------------------------------

@@ -208,9 +208,7 @@ namespace twinflow::fem
       const std::vector<double> nu = this->shock_capturing(dt, next);
       this->solve_transport(dt, false, &nu, next);
     }
-    this->before  = this->current;
-    this->current = next;
-    this->dt_last = dt;
+    this->push(next, dt);
   }
 
   template <int dim>
@@ -237,9 +235,7 @@ namespace twinflow::fem
     }
     else
       next = provisional;
-    this->before  = this->current;
-    this->current = next;
-    this->dt_last = dt;
+    this->push(next, dt);
   }
 
   template class NclsTransport<2>;

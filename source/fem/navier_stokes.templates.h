@@ -281,7 +281,14 @@ namespace twinflow::fem
     const unsigned int  nq = quad.size();
     const FEValuesExtractors::Vector vel(0);
     const bool symmetric = prm.viscous_form == ViscousForm::symmetric;
-    const bool constant  = material.is_constant() || material.advected_density();
+    // Variable ρ (two phases): the √ρ form of the time derivative (Guermond & Quartapelle
+    // 2000), σ^{n+1}(α0 σ^{n+1}u^{n+1} + α1 σ^n u^n + α2 σ^{n−1}u^{n−1})/τ with σ = √ρ, and
+    // convection in its explicitly skew form ½ρ[(u*·∇u)·v − (u*·∇v)·u]. Tested with u^{n+1},
+    // both give the kinetic energy ½∫ρ|u|² exactly (BDF1) or in the G-norm of BDF2, whatever
+    // the discrete ρ does: no ∂_tρ + ∇·(ρu) = 0 is assumed. With ρ a cell mean the form
+    // ρ(u*·∇u) + ½ρ(∇·u*)u would leave ½[ρ](u*·n)|u|² on every face the flow crosses the
+    // interface: energy injected where air flows into water cells (a 1000:1 jump).
+    const bool constant  = material.is_constant();
 
     FullMatrix<double>                   cell_matrix(n, n);
     Vector<double>                       cell_rhs(n);
@@ -345,10 +352,15 @@ namespace twinflow::fem
         const double w = fraction[q];
         const double rho = w * mat.density[q], mu = w * mat.viscosity[q], JxW = fev.JxW(q);
         const double div_star = c.e0 * div_un[q] + c.e1 * div_unm1[q];
-        double mass = rho * c.a0 / dt + 0.5 * rho * div_star;
-        if (!constant)
-          mass += 0.5 * w * (mat.density_rate[q] + mat.density_gradient[q] * u_star[q]);
-        Tensor<1, dim> rhs = -rho / dt * (c.a1 * un[q] + c.a2 * unm1[q]);
+        const double mass = rho * c.a0 / dt + (constant ? 0.5 * rho * div_star : 0.0);
+        Tensor<1, dim> rhs;
+        if (constant)
+          rhs = -rho / dt * (c.a1 * un[q] + c.a2 * unm1[q]);
+        else
+          rhs = -w / dt *
+                (c.a1 * std::sqrt(mat.density[q] * mat.density_previous[q]) * un[q] +
+                 c.a2 * std::sqrt(mat.density[q] * mat.density_older[q]) * unm1[q]);
+        const double skew = constant ? 0.0 : 0.5;
         for (unsigned int d = 0; d < dim; ++d)
         {
           if (acceleration) rhs[d] += rho * g_val[q](d);
@@ -373,7 +385,8 @@ namespace twinflow::fem
           {
             double a = 0;
             if (ci == comp[j])
-              a = (mass * s[j] + rho * (u_star[q] * ds[j])) * s[i] + mu * (ds[i] * ds[j]) +
+              a = (mass * s[j] + (1 - skew) * rho * (u_star[q] * ds[j])) * s[i] -
+                  skew * rho * (u_star[q] * ds[i]) * s[j] + mu * (ds[i] * ds[j]) +
                   sd * (u_star[q] * ds[j]) * (u_star[q] * ds[i]);
             if (symmetric)
               a += mu * ds[i][comp[j]] * ds[j][ci];

@@ -13,8 +13,8 @@
  * Each is a FieldPhysics (setup, transfer, advance, output, checkpoint) on the Q_k space of
  * LevelSetSpace, which is itself the first physics of the list (it distributes the DoFs) and
  * the AdaptationInterface of the free surface (the refinement band follows φ = 0).
- * TwoPhaseMaterial hands ρ, μ (Eq. 9–10 with H_ε of Eq. 13, ε = factor × h_K), ∇ρ, ∂ρ/∂t to
- * Navier–Stokes. A scene with one fluid constructs none of this.
+ * TwoPhaseMaterial hands ρ, μ (Eq. 9–10 with H_ε of Eq. 13, ε = factor × h_K) and the two
+ * earlier densities ρ^n, ρ^{n−1} (for the √ρ form of the time derivative) to Navier–Stokes. A scene with one fluid constructs none of this.
  */
 #include <twinflow/fem/field_physics.h>
 #include <twinflow/fem/material_model.h>
@@ -177,9 +177,10 @@ namespace twinflow::fem
     void save_state(std::ostream &out) const override;
     void load_state(std::istream &in) override;
 
-    /// Current value (ghosted) and the value before the last advance.
+    /// Current value (ghosted), the value before the last advance and the one before that.
     const dealii::TrilinosWrappers::MPI::Vector &value() const { return current; }
     const dealii::TrilinosWrappers::MPI::Vector &previous() const { return before; }
+    const dealii::TrilinosWrappers::MPI::Vector &older() const { return before_previous; }
     /// Overwrite the current value (owned or ghosted vector; constraints applied here).
     void set(const dealii::TrilinosWrappers::MPI::Vector &v);
     /// Interpolate @p f as the initial value (previous = current).
@@ -200,7 +201,9 @@ namespace twinflow::fem
     LevelSetSpace<dim>      &space;
     const NavierStokes<dim> &flow;
     std::string              field_name;
-    dealii::TrilinosWrappers::MPI::Vector current, before;
+    dealii::TrilinosWrappers::MPI::Vector current, before, before_previous;
+    /// Shift the history (older ← previous ← current) and store @p next as the current value.
+    void push(const dealii::TrilinosWrappers::MPI::Vector &next, double dt);
     double                   dt_last    = 0;
     unsigned int             iterations = 0;
     std::set<dealii::types::boundary_id> open_boundaries;
@@ -305,7 +308,6 @@ namespace twinflow::fem
                   const std::vector<dealii::Point<dim>> &points, double time,
                   MaterialValues<dim> &values) const override;
     double minimum_density() const override { return std::min(fluids.rho_water, fluids.rho_air); }
-    bool   advected_density() const override { return true; }
     const TwoFluids &properties() const { return fluids; }
 
   private:
@@ -314,8 +316,7 @@ namespace twinflow::fem
     TwoFluids                             fluids;
     /// FEValues of the level-set space per Gauss quadrature size asked for (QGauss(n), n^dim points).
     mutable std::map<unsigned int, std::unique_ptr<dealii::FEValues<dim>>> fe_values;
-    mutable std::vector<double>           phi, phi_old;
-    mutable std::vector<dealii::Tensor<1, dim>> grad_phi;
+    mutable std::vector<double>           phi, phi_old, phi_older;
   };
 
   /// What the free-surface monitors measure (collective).

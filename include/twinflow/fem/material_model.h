@@ -23,15 +23,15 @@ namespace twinflow::fem
   {
     std::vector<double>                  density;            ///< ρ^{n+1}
     std::vector<double>                  viscosity;          ///< μ^{n+1}
-    std::vector<dealii::Tensor<1, dim>>  density_gradient;   ///< ∇ρ^{n+1}
-    std::vector<double>                  density_rate;       ///< ∂ρ/∂t at t^{n+1}
+    std::vector<double>                  density_previous;   ///< ρ^n (the step before)
+    std::vector<double>                  density_older;      ///< ρ^{n−1}
 
     void resize(const unsigned int n)
     {
       density.resize(n);
       viscosity.resize(n);
-      density_gradient.resize(n);
-      density_rate.resize(n);
+      density_previous.resize(n);
+      density_older.resize(n);
     }
   };
 
@@ -57,12 +57,6 @@ namespace twinflow::fem
     /// True if ρ and μ are constants: the solver then skips the variable-density terms.
     virtual bool is_constant() const { return false; }
 
-    /// True if ρ is carried by the flow by construction (ρ = ρ(φ) with φ transported: Dρ/Dt = 0
-    /// holds up to the transport's error). The solver then omits ∂_tρ + u·∇ρ from the
-    /// skew-symmetric mass term ½[∂_tρ + ∇·(ρu*)]: across a 1000:1 interface of width 2ε the
-    /// lagged, discrete ∂_tρ and u*·∇ρ do not cancel and their sum (∼ρ_w|u|/ε) would dwarf
-    /// the air's ρ/τ and make the velocity matrix indefinite.
-    virtual bool advected_density() const { return false; }
   };
 
   /// One fluid: constant ρ and μ.
@@ -82,9 +76,8 @@ namespace twinflow::fem
       values.resize(points.size());
       std::fill(values.density.begin(), values.density.end(), rho);
       std::fill(values.viscosity.begin(), values.viscosity.end(), mu);
-      std::fill(values.density_gradient.begin(), values.density_gradient.end(),
-                dealii::Tensor<1, dim>());
-      std::fill(values.density_rate.begin(), values.density_rate.end(), 0.0);
+      std::fill(values.density_previous.begin(), values.density_previous.end(), rho);
+      std::fill(values.density_older.begin(), values.density_older.end(), rho);
     }
 
     double minimum_density() const override { return rho; }
