@@ -101,9 +101,10 @@ namespace twinflow
                         "Directions in which the domain is periodic.");
       for (const auto *f : face_names)
         prm.declare_entry(std::string(f) + " boundary", "no slip",
-                          Patterns::Selection("no slip|inflow|outflow|periodic"),
+                          Patterns::Selection("no slip|slip|inflow|outflow|periodic"),
                           std::string("Condition on the ") + f +
-                            " face: no slip (u = 0), inflow (prescribed profile), outflow (do-nothing), "
+                            " face: no slip (u = 0), slip (u·n = 0, no shear: a wall whose boundary layer the "
+                            "mesh does not resolve; FEM only), inflow (prescribed profile), outflow (do-nothing), "
                             "periodic (set by Periodic directions).");
       prm.declare_entry("Inflow profile", "parabolic", Patterns::Selection("parabolic|uniform"),
                         "Shape of the inflow velocity across the inflow face.");
@@ -284,6 +285,7 @@ namespace twinflow
       const std::string entry = std::string(face_names[f]) + " boundary";
       const std::string v     = prm.get(entry);
       s.boundary[f] = v == "inflow" ? BoundaryKind::inflow : v == "outflow" ? BoundaryKind::outflow
+                    : v == "slip"    ? BoundaryKind::slip
                     : v == "periodic" ? BoundaryKind::periodic : BoundaryKind::no_slip;
       if (s.periodic[f / 2])
         s.boundary[f] = BoundaryKind::periodic;

@@ -276,6 +276,9 @@ namespace twinflow::fem
         case BoundaryKind::no_slip:
           ns.set_dirichlet(face_id[f], std::make_shared<Functions::ZeroFunction<dim>>(dim));
           break;
+        case BoundaryKind::slip:
+          ns.set_slip(face_id[f], axis);
+          break;
         case BoundaryKind::inflow:
           inflow = std::make_shared<internal::InflowVelocity<dim>>(scene, axis, f % 2 == 0 ? 1.0 : -1.0);
           ns.set_dirichlet(face_id[f], inflow);

@@ -1,4 +1,5 @@
 // Level set: redistancing (Eq. 14, steady state) and the mass correction (Eq. 12, Newton).
+#include <twinflow/fem/linear_solve.h>
 #include <twinflow/fem/immersed_boundary.h>
 #include <twinflow/fem/level_set.h>
 
@@ -261,7 +262,7 @@ namespace twinflow::fem
       delta = 0;
       SolverControl control(1000, std::max(1e-12 * residual.l2_norm(), 1e-300));
       SolverCG<TrilinosWrappers::MPI::Vector> cg(control);
-      cg.solve(jacobian, delta, residual, amg);
+      solve_named("mass-correction Newton", [&] { cg.solve(jacobian, delta, residual, amg); });
       space.constraints().distribute(delta);
       u_owned += delta;
       correction = u_owned;

@@ -1,6 +1,7 @@
 // Level set: parameters, the shared space (DoFs, constraints, free-surface interface), the
 // field life cycle, the two-phase material and the free-surface measures.
 #include <twinflow/core/errors.h>
+#include <twinflow/fem/linear_solve.h>
 #include <twinflow/fem/immersed_boundary.h>
 #include <twinflow/fem/level_set.h>
 
@@ -26,8 +27,12 @@ namespace twinflow::fem
     prm.declare_entry("Interface width", "1.5", Patterns::Double(0.5, 4),
                       "epsilon / h_K of the regularised Heaviside H_eps of Eq. 13 (rho, mu, mass correction); "
                       "the paper uses h_K < epsilon < 2 h_K.");
-    prm.declare_entry("Shock capturing", "0.2", Patterns::Double(0, 2),
-                      "c of the VOF shock-capturing viscosity nu_K = c h_K |R| / |grad theta| (capped at h_K |u| / 2).");
+    prm.declare_entry("Shock capturing", "0", Patterns::Double(0, 2),
+                      "c of the residual shock-capturing viscosity of the NCLS and VOF transport, nu_K = c h_K |R| / "
+                      "|grad theta| (capped at h_K |u| / 2). 0 (default): SUPG alone. Any c > 0 erodes thin water "
+                      "layers (the mass correction pulls phi onto the diffused theta): the Martin & Moyce front at a/8 "
+                      "lags the experiment by 12 % with c = 0.2 against 3 % with 0. Useful for under-resolved shapes "
+                      "with corners (Zalesak's disk) where SUPG leaves crosswind wiggles.");
     prm.declare_entry("Correction diffusion", "10", Patterns::Double(1e-3, 1e3),
                       "kappa / h_K of the mass correction (Eq. 12): larger spreads the correction u further from "
                       "the interface.");
@@ -208,7 +213,7 @@ namespace twinflow::fem
     x.compress(VectorOperation::insert);
     SolverControl control(500, std::max(1e-13 * rhs.l2_norm(), 1e-300));
     SolverCG<TrilinosWrappers::MPI::Vector> cg(control);
-    cg.solve(mass, x, rhs, mass_preconditioner);
+    solve_named("level-set L2 projection", [&] { cg.solve(mass, x, rhs, mass_preconditioner); });
     mesh_constraints.distribute(x);
     theta = x;
   }

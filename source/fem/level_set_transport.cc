@@ -1,6 +1,7 @@
 // Level set: the transports of φ (Eq. 7, NCLS) and θ (Eq. 8, VOF). Crank–Nicolson in time at
 // the midpoint velocity, SUPG in space; the VOF adds residual-based shock capturing. Both are
 // linear per step (GMRES + ILU).
+#include <twinflow/fem/linear_solve.h>
 #include <twinflow/fem/level_set.h>
 
 #include <deal.II/base/quadrature_lib.h>
@@ -141,7 +142,7 @@ namespace twinflow::fem
     space.constraints().set_zero(result);
     SolverControl control(1000, std::max(space.parameters().linear_tolerance * rhs.l2_norm(), 1e-300));
     SolverGMRES<TrilinosWrappers::MPI::Vector> gmres(control, SolverGMRES<TrilinosWrappers::MPI::Vector>::AdditionalData(50));
-    gmres.solve(matrix, result, rhs, ilu);
+    solve_named(field_name + " transport", [&] { gmres.solve(matrix, result, rhs, ilu); });
     space.constraints().distribute(result);
     iterations += control.last_step();
   }

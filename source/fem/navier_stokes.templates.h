@@ -1,5 +1,6 @@
 // Implementation of NavierStokes<dim>; instantiated in navier_stokes_2d.cc / _3d.cc.
 #pragma once
+#include <twinflow/fem/linear_solve.h>
 #include <twinflow/fem/navier_stokes.h>
 
 #include <deal.II/base/conditional_ostream.h>
@@ -47,6 +48,13 @@ namespace twinflow::fem
   }
 
   template <int dim>
+  void NavierStokes<dim>::set_slip(const types::boundary_id id, const unsigned int axis)
+  {
+    AssertThrow(axis < dim, ExcMessage("slip face: the normal axis must be < dim"));
+    slip[id] = axis;
+  }
+
+  template <int dim>
   void NavierStokes<dim>::set_outflow(types::boundary_id id) { outflow.insert(id); }
 
   template <int dim>
@@ -70,6 +78,13 @@ namespace twinflow::fem
     for (const auto &pp : periodic)
       DoFTools::make_periodicity_constraints(velocity_dofs, pp.b1, pp.b2, pp.direction,
                                              velocity_constraints);
+    for (const auto &[id, axis] : slip)
+    {
+      ComponentMask normal(dim, false);
+      normal.set(axis, true);
+      VectorTools::interpolate_boundary_values(mapping, velocity_dofs, id, Functions::ZeroFunction<dim>(dim),
+                                               velocity_constraints, normal);
+    }
     for (const auto &[id, fun] : dirichlet)
     {
       fun->set_time(t);
@@ -435,10 +450,12 @@ namespace twinflow::fem
     SolverControl control(5000, target);
     SolverGMRES<TrilinosWrappers::MPI::Vector> gmres(
       control, SolverGMRES<TrilinosWrappers::MPI::Vector>::AdditionalData(100, true));
-    if (use_ilu)
-      gmres.solve(velocity_matrix, x, velocity_rhs, velocity_ilu);
-    else
-      gmres.solve(velocity_matrix, x, velocity_rhs, velocity_amg);
+    solve_named("Navier-Stokes velocity", [&] {
+      if (use_ilu)
+        gmres.solve(velocity_matrix, x, velocity_rhs, velocity_ilu);
+      else
+        gmres.solve(velocity_matrix, x, velocity_rhs, velocity_amg);
+    });
     velocity_constraints.distribute(x);
     TrilinosWrappers::MPI::Vector change(velocity_owned, comm);
     change = u_n;
@@ -512,7 +529,7 @@ namespace twinflow::fem
     const double  target = std::max(prm.linear_tolerance * pressure_rhs.l2_norm(), 1e-300);
     SolverControl control(5000, target);
     SolverCG<TrilinosWrappers::MPI::Vector> cg(control);
-    cg.solve(pressure_laplace, phi, pressure_rhs, pressure_amg);
+    solve_named("Navier-Stokes pressure increment", [&] { cg.solve(pressure_laplace, phi, pressure_rhs, pressure_amg); });
     increment_constraints.distribute(phi);
 
     TrilinosWrappers::MPI::Vector p(pressure_owned, comm);
@@ -583,7 +600,7 @@ namespace twinflow::fem
     jacobi.initialize(velocity_mass);
     SolverControl control(2000, std::max(prm.linear_tolerance * velocity_rhs.l2_norm(), 1e-300));
     SolverCG<TrilinosWrappers::MPI::Vector> cg(control);
-    cg.solve(velocity_mass, x, velocity_rhs, jacobi);
+    solve_named("Navier-Stokes velocity correction", [&] { cg.solve(velocity_mass, x, velocity_rhs, jacobi); });
     velocity_constraints.distribute(x);
     u_n = x;
   }

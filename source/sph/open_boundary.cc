@@ -36,6 +36,9 @@ namespace twinflow::sph
     for (int f = 0; f < 2 * dim; ++f)
     {
       const BoundaryKind kind = scene.boundary[f];
+      require(kind != BoundaryKind::slip, "Domain/" + std::string(face_names[f]) + " boundary", "slip",
+              "SPH walls are BCE markers with the no-slip mirror (Eq. 59-60); allowed: no slip, periodic, and "
+              "outflow on the open top of a free-surface scene");
       if (kind != BoundaryKind::inflow && kind != BoundaryKind::outflow)
         continue;
       const std::string where = top >= 0 ? std::string("here the ") + face_names[top] + " face"

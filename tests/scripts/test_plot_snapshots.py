@@ -140,7 +140,7 @@ def synthetic(work, failures):
 def twinflow_run(work, twinflow, scene, failures):
     out = os.path.join(work, "run")
     env = dict(os.environ, TWINFLOW_PYTHON=sys.executable)
-    r = subprocess.run([twinflow, scene, "-o", out, "--set", "Scene/End time=0.03",
+    r = subprocess.run([twinflow, scene, "-o", out, "--set", "Scene/Methods=sph", "--set", "Scene/End time=0.03",
                         "--set", "Scene/Snapshot times=0.02, 0"], capture_output=True, text=True, env=env)
     if r.returncode != 0:
         failures.append(f"twinflow run failed: {r.stdout[-2000:]} {r.stderr}")

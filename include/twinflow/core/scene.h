@@ -17,7 +17,7 @@ namespace twinflow
   enum class Method { fem, sph };
 
   /// Kinds of boundary condition a face of the domain can carry.
-  enum class BoundaryKind { no_slip, inflow, outflow, periodic };
+  enum class BoundaryKind { no_slip, slip, inflow, outflow, periodic };
 
   /// Axis-aligned region (3 components; the z ones unused in 2D).
   struct Region

@@ -50,7 +50,7 @@ namespace twinflow::fem
   {
     unsigned int degree           = 1;    ///< Q_k of φ and θ
     double       interface_width  = 1.5;  ///< ε / h_K of H_ε (Eq. 13); the paper: h < ε < 2h
-    double       shock_capturing  = 0.2;  ///< c_sc of the VOF shock-capturing viscosity
+    double       shock_capturing  = 0.0;  ///< c_sc of the NCLS/VOF shock-capturing viscosity (0: SUPG alone)
     double       correction_diffusion = 10; ///< κ / h_K of the mass correction (Eq. 12)
     double       correction_tolerance = 1e-10; ///< Newton: |∫H(φ+u) − ∫θ| / ∫1 below this
     bool         redistance       = true; ///< Eq. 14 every step (false: never)

@@ -79,6 +79,8 @@ namespace twinflow::fem
 
     /// Velocity prescribed on boundary @p id (a zero function = no slip).
     void set_dirichlet(dealii::types::boundary_id id, std::shared_ptr<dealii::Function<dim>> u);
+    /// Free slip on the axis-aligned face @p id whose normal is @p axis: u_axis = 0, no shear.
+    void set_slip(dealii::types::boundary_id id, unsigned int axis);
     /// Do-nothing outflow (μ∇u − pI)n = 0 on @p id; φ = 0 there.
     void set_outflow(dealii::types::boundary_id id);
     /// Periodic pair of boundaries in @p direction (the triangulation must already
@@ -185,6 +187,7 @@ namespace twinflow::fem
     dealii::IndexSet velocity_owned, velocity_relevant, pressure_owned, pressure_relevant;
 
     std::map<dealii::types::boundary_id, std::shared_ptr<dealii::Function<dim>>> dirichlet;
+    std::map<dealii::types::boundary_id, unsigned int> slip; ///< face → its normal axis
     std::set<dealii::types::boundary_id>                                           outflow;
     struct Periodic { dealii::types::boundary_id b1, b2; unsigned int direction; };
     std::vector<Periodic>                  periodic;
