@@ -82,7 +82,10 @@ namespace
       parallel::distributed::Triangulation<2> tria(MPI_COMM_WORLD);
       GridGenerator::hyper_ball(tria);
       tria.refine_global(3);
-      FunctionMaterial<2>    material(std::make_shared<Density>(), 1.0, 2 - std::sqrt(2.0));
+      const unsigned int n  = 10u << k;
+      const double       dt = 1.0 / n;
+      FunctionMaterial<2>    material(std::make_shared<Density>(), 1.0, 2 - std::sqrt(2.0), 0.0,
+                                      scheme == TimeScheme::bdf2 ? -dt : 0.0);
       NavierStokesParameters prm;
       prm.scheme           = scheme;
       prm.mapping_degree   = 2;
@@ -93,8 +96,6 @@ namespace
       ns.set_force_density(std::make_shared<Forcing>());
       ns.setup();
       Pressure     p;
-      const unsigned int n  = 10u << k;
-      const double       dt = 1.0 / n;
       ns.initialize(*u, p, 0.0, scheme == TimeScheme::bdf2 ? u.get() : nullptr, dt);
       for (unsigned int s = 0; s < n; ++s)
         ns.step(dt);

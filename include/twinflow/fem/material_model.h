@@ -12,6 +12,8 @@
 #include <deal.II/base/tensor.h>
 #include <deal.II/grid/tria.h>
 
+#include <array>
+#include <cmath>
 #include <memory>
 #include <vector>
 
@@ -88,9 +90,11 @@ namespace twinflow::fem
   };
 
   /**
-   * Density given by an analytic function ρ(x,t) (with gradient), constant viscosity:
-   * used by the variable-density manufactured solution (Guermond & Salgado 2009).
-   * ∂ρ/∂t is taken by a centred difference of the function in time.
+   * Density given by an analytic function ρ(x,t), constant viscosity: used by the variable-
+   * density manufactured solution (Guermond & Salgado 2009). The earlier densities ρ^n, ρ^{n−1}
+   * are the function at the two time levels evaluated before (the solver asks for t^{n+1} in
+   * increasing steps; the first levels are @p start_time and @p before_start, the time of the
+   * initial history a BDF2 start is given).
    */
   template <int dim>
   class FunctionMaterial : public MaterialModel<dim>
@@ -98,8 +102,10 @@ namespace twinflow::fem
   public:
     FunctionMaterial(std::shared_ptr<dealii::Function<dim>> density,
                      const double                           viscosity,
-                     const double                           rho_min)
-      : rho(std::move(density)), mu(viscosity), rho_min(rho_min)
+                     const double                           rho_min,
+                     const double                           start_time  = 0,
+                     const double                           before_start = 0)
+      : rho(std::move(density)), mu(viscosity), rho_min(rho_min), levels{start_time, before_start, before_start}
     {}
 
     void evaluate(const typename dealii::Triangulation<dim>::active_cell_iterator &,
@@ -107,19 +113,19 @@ namespace twinflow::fem
                   double                                 time,
                   MaterialValues<dim>                   &values) const override
     {
+      if (time > levels[0] + 1e-12 * std::max(1.0, std::abs(time)))
+        levels = {time, levels[0], levels[1]};
+      const double previous = levels[1], older = levels[2];
       values.resize(points.size());
-      const double eps = 1e-6;
       for (unsigned int q = 0; q < points.size(); ++q)
       {
         rho->set_time(time);
-        values.density[q]          = rho->value(points[q]);
-        values.density_gradient[q] = rho->gradient(points[q]);
-        values.viscosity[q]        = mu;
-        rho->set_time(time + eps);
-        const double rp = rho->value(points[q]);
-        rho->set_time(time - eps);
-        const double rm = rho->value(points[q]);
-        values.density_rate[q] = (rp - rm) / (2 * eps);
+        values.density[q]   = rho->value(points[q]);
+        values.viscosity[q] = mu;
+        rho->set_time(previous);
+        values.density_previous[q] = rho->value(points[q]);
+        rho->set_time(older);
+        values.density_older[q] = rho->value(points[q]);
       }
       rho->set_time(time);
     }
@@ -129,5 +135,6 @@ namespace twinflow::fem
   private:
     std::shared_ptr<dealii::Function<dim>> rho;
     double                                 mu, rho_min;
+    mutable std::array<double, 3>          levels; ///< t^{n+1}, t^n, t^{n−1} seen so far
   };
 } // namespace twinflow::fem
