@@ -163,6 +163,7 @@ namespace twinflow::fem
     if (!(prm.variable_projection && !material.is_constant())) // else rebuilt every step
       assemble_pressure_laplacian();
     rebuild_velocity_preconditioner = true;
+    rebuild_pressure_preconditioner = true;
 
     velocity_rhs.reinit(velocity_owned, comm);
     pressure_rhs.reinit(pressure_owned, comm);
@@ -521,7 +522,14 @@ namespace twinflow::fem
     if (variable)
     {
       pressure_laplace.compress(VectorOperation::add);
-      initialize_pressure_amg();
+      // The coefficient 1/ρ̄ moves with the surface by less than a cell per step: the AMG
+      // hierarchy is rebuilt every 'AMG rebuild interval' steps (and after a mesh change);
+      // CG on the current matrix stays exact, a stale hierarchy only costs iterations.
+      if (step_number % prm.amg_rebuild_interval == 0 || rebuild_pressure_preconditioner)
+      {
+        rebuild_pressure_preconditioner = false;
+        initialize_pressure_amg();
+      }
     }
     stats.divergence_l2 = std::sqrt(Utilities::MPI::sum(div_sq, comm));
 
