@@ -22,6 +22,42 @@ namespace twinflow::fem
     {
       return 1.0 / std::sqrt(4.0 / (dt * dt) + 4.0 * speed * speed / (h * h));
     }
+
+    /// The Crank–Nicolson midpoint velocity (uⁿ + uⁿ⁺¹)/2 and its divergence at the quadrature
+    /// points of a level-set cell (the same mesh, the velocity's DoFHandler).
+    template <int dim>
+    struct MidpointVelocity
+    {
+      MidpointVelocity(const NavierStokes<dim> &flow, const Quadrature<dim> &quad)
+        : flow(flow)
+        , fvu(flow.get_mapping(), flow.velocity_dof_handler().get_fe(), quad, update_values | update_gradients)
+        , u(quad.size()), u_old(quad.size()), div(quad.size()), div_old(quad.size())
+      {}
+
+      /// Evaluate on @p cell; returns the velocity cell (for face values).
+      typename DoFHandler<dim>::active_cell_iterator reinit(const typename DoFHandler<dim>::active_cell_iterator &cell)
+      {
+        const typename DoFHandler<dim>::active_cell_iterator vcell(&cell->get_triangulation(), cell->level(),
+                                                                   cell->index(), &flow.velocity_dof_handler());
+        const FEValuesExtractors::Vector vel(0);
+        fvu.reinit(vcell);
+        fvu[vel].get_function_values(flow.velocity(), u);
+        fvu[vel].get_function_values(flow.previous_velocity(), u_old);
+        fvu[vel].get_function_divergences(flow.velocity(), div);
+        fvu[vel].get_function_divergences(flow.previous_velocity(), div_old);
+        for (unsigned int q = 0; q < u.size(); ++q)
+        {
+          u[q]   = 0.5 * (u[q] + u_old[q]);
+          div[q] = 0.5 * (div[q] + div_old[q]);
+        }
+        return vcell;
+      }
+
+      const NavierStokes<dim>    &flow;
+      FEValues<dim>               fvu;
+      std::vector<Tensor<1, dim>> u, u_old; ///< u: the midpoint
+      std::vector<double>         div, div_old;
+    };
   } // namespace
 
   template <int dim>
@@ -36,7 +72,7 @@ namespace twinflow::fem
     const QGauss<dim - 1> face_quad(fe.degree + 2);
     const auto        &vdofs = flow.velocity_dof_handler();
     FEValues<dim>      fev(space.mapping(), fe, quad, update_values | update_gradients | update_JxW_values);
-    FEValues<dim>      fvu(flow.get_mapping(), vdofs.get_fe(), quad, update_values | update_gradients);
+    MidpointVelocity<dim> mid(flow, quad);
     FEFaceValues<dim>  ffv(space.mapping(), fe, face_quad, update_values | update_JxW_values | update_normal_vectors);
     FEFaceValues<dim>  ffu(flow.get_mapping(), vdofs.get_fe(), face_quad, update_values);
     const unsigned int n  = fe.n_dofs_per_cell();
@@ -45,22 +81,16 @@ namespace twinflow::fem
     FullMatrix<double> A(n, n);
     Vector<double>     b(n);
     std::vector<types::global_dof_index> indices(n);
-    std::vector<Tensor<1, dim>> u_new(nq), u_old(nq), grad_old(nq), fu_new(face_quad.size()), fu_old(face_quad.size());
-    std::vector<double> div_new(nq), div_old(nq), val_old(nq), fval_old(face_quad.size());
+    std::vector<Tensor<1, dim>> grad_old(nq), fu_new(face_quad.size()), fu_old(face_quad.size());
+    std::vector<double> val_old(nq), fval_old(face_quad.size());
     std::vector<double> s(n), adv(n);
     std::vector<Tensor<1, dim>> ds(n);
-    const auto &tria = space.dof_handler().get_triangulation();
     for (const auto &cell : space.dof_handler().active_cell_iterators())
     {
       if (!cell->is_locally_owned())
         continue;
       fev.reinit(cell);
-      const typename DoFHandler<dim>::active_cell_iterator vcell(&tria, cell->level(), cell->index(), &vdofs);
-      fvu.reinit(vcell);
-      fvu[vel].get_function_values(flow.velocity(), u_new);
-      fvu[vel].get_function_values(flow.previous_velocity(), u_old);
-      fvu[vel].get_function_divergences(flow.velocity(), div_new);
-      fvu[vel].get_function_divergences(flow.previous_velocity(), div_old);
+      const auto vcell = mid.reinit(cell);
       fev.get_function_values(current, val_old);
       fev.get_function_gradients(current, grad_old);
       const double h     = LevelSetSpace<dim>::cell_size(cell) / fe.degree;
@@ -69,8 +99,8 @@ namespace twinflow::fem
       b = 0;
       for (unsigned int q = 0; q < nq; ++q)
       {
-        const Tensor<1, dim> u   = 0.5 * (u_new[q] + u_old[q]);
-        const double         div = conservative ? 0.5 * (div_new[q] + div_old[q]) : 0.0;
+        const Tensor<1, dim> u   = mid.u[q];
+        const double         div = conservative ? mid.div[q] : 0.0;
         const double         tau = supg_tau(dt, u.norm(), h);
         const double         JxW = fev.JxW(q);
         for (unsigned int i = 0; i < n; ++i)
@@ -156,13 +186,11 @@ namespace twinflow::fem
     provisional = provisional_owned;
     const auto        &fe = space.fe();
     const QGauss<dim>  quad(fe.degree + 1);
-    const auto        &vdofs = flow.velocity_dof_handler();
     FEValues<dim>      fev(space.mapping(), fe, quad, update_values | update_gradients);
-    FEValues<dim>      fvu(flow.get_mapping(), vdofs.get_fe(), quad, update_values | update_gradients);
-    const FEValuesExtractors::Vector vel(0);
+    MidpointVelocity<dim> mid(flow, quad);
     const unsigned int nq = quad.size();
-    std::vector<Tensor<1, dim>> u_new(nq), u_old(nq), g_new(nq), g_old(nq);
-    std::vector<double> d_new(nq), d_old(nq), v_new(nq), v_old(nq);
+    std::vector<Tensor<1, dim>> g_new(nq), g_old(nq);
+    std::vector<double> v_new(nq), v_old(nq);
     const auto &tria = space.dof_handler().get_triangulation();
     std::vector<double> nu(tria.n_active_cells(), 0.0);
     const double c = space.parameters().shock_capturing;
@@ -171,12 +199,7 @@ namespace twinflow::fem
       if (!cell->is_locally_owned())
         continue;
       fev.reinit(cell);
-      const typename DoFHandler<dim>::active_cell_iterator vcell(&tria, cell->level(), cell->index(), &vdofs);
-      fvu.reinit(vcell);
-      fvu[vel].get_function_values(flow.velocity(), u_new);
-      fvu[vel].get_function_values(flow.previous_velocity(), u_old);
-      fvu[vel].get_function_divergences(flow.velocity(), d_new);
-      fvu[vel].get_function_divergences(flow.previous_velocity(), d_old);
+      mid.reinit(cell);
       fev.get_function_values(provisional, v_new);
       fev.get_function_values(current, v_old);
       fev.get_function_gradients(provisional, g_new);
@@ -185,8 +208,8 @@ namespace twinflow::fem
       double       ratio = 0, speed = 0;
       for (unsigned int q = 0; q < nq; ++q)
       {
-        const Tensor<1, dim> u = 0.5 * (u_new[q] + u_old[q]), g = 0.5 * (g_new[q] + g_old[q]);
-        const double R = (v_new[q] - v_old[q]) / dt + u * g + 0.5 * (v_new[q] + v_old[q]) * 0.5 * (d_new[q] + d_old[q]);
+        const Tensor<1, dim> u = mid.u[q], g = 0.5 * (g_new[q] + g_old[q]);
+        const double R = (v_new[q] - v_old[q]) / dt + u * g + 0.5 * (v_new[q] + v_old[q]) * mid.div[q];
         ratio = std::max(ratio, std::abs(R) / std::max(g.norm(), 1e-8 / h));
         speed = std::max(speed, u.norm());
       }
