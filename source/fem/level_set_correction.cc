@@ -23,7 +23,8 @@ namespace twinflow::fem
   template <int dim>
   void Redistancing<dim>::advance(double)
   {
-    if (space.parameters().redistance)
+    ++steps;
+    if (space.parameters().redistance && steps % space.parameters().redistancing_interval == 0)
       redistance();
   }
 

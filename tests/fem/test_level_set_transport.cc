@@ -1,6 +1,6 @@
 // Zalesak's slotted disk rotated once with the level set of Algorithm 1 (prescribed velocity):
 // shape error falling with refinement, water volume kept by the mass correction (and the loss
-// without it). Label full: it does not pass yet (see the issue note of the two-phase FEM).
+// without it). Label full (40 s).
 #include "level_set_rig.h"
 
 #include <gtest/gtest.h>

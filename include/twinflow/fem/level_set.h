@@ -53,7 +53,8 @@ namespace twinflow::fem
     double       shock_capturing  = 0.0;  ///< c_sc of the NCLS/VOF shock-capturing viscosity (0: SUPG alone)
     double       correction_diffusion = 10; ///< κ / h_K of the mass correction (Eq. 12)
     double       correction_tolerance = 1e-10; ///< Newton: |∫H(φ+u) − ∫θ| / ∫1 below this
-    bool         redistance       = true; ///< Eq. 14 every step (false: never)
+    bool         redistance       = true; ///< Eq. 14 (false: never)
+    unsigned int redistancing_interval = 1; ///< steps between redistancings
     bool         mass_correction  = true; ///< Eq. 12 every step (false: θ and φ drift apart)
     double       linear_tolerance = 1e-10;
 
@@ -266,6 +267,7 @@ namespace twinflow::fem
     LevelSetSpace<dim> &space;
     NclsTransport<dim> &ncls;
     std::size_t         samples = 0;
+    unsigned int        steps   = 0; ///< steps since the start (or restart)
   };
 
   /// Eq. 12 by Newton: ∫(H_ε(φ+u) − θ) v + κ ∇u·∇v = 0 for all v (∂_n u = 0), κ = c h_K; then
