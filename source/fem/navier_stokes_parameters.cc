@@ -19,8 +19,7 @@ namespace twinflow::fem
     prm.declare_entry("Linear solver tolerance", "1e-10", Double(1e-16, 1e-2),
                       "Relative residual reduction of every Krylov solve.");
     prm.declare_entry("AMG rebuild interval", "1", Integer(1, 1000),
-                      "Rebuild the velocity preconditioner (and, with two phases, the AMG of the variable-density "
-                      "pressure Laplacian) every n steps; reused in between, rebuilt after every mesh change.");
+                      "Rebuild the velocity preconditioner every n steps (it is reused in between).");
     prm.declare_entry("Pressure projection", "minimum density", Selection("minimum density|variable density"),
                       "Pressure increment of a variable density: -Lap(phi) = -(a0 rho_min/dt) div u (Guermond & "
                       "Salgado 2009, the paper's Eq. 16; mesh-only matrix) or -div(grad(phi)/rho) = -(a0/dt) div u "

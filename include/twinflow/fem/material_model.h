@@ -105,7 +105,7 @@ namespace twinflow::fem
                      const double                           rho_min,
                      const double                           start_time  = 0,
                      const double                           before_start = 0)
-      : rho(std::move(density)), mu(viscosity), rho_min(rho_min), levels{start_time, before_start, before_start}
+      : rho(std::move(density)), mu(viscosity), rho_min(rho_min), levels{{start_time, before_start, before_start}}
     {}
 
     void evaluate(const typename dealii::Triangulation<dim>::active_cell_iterator &,
@@ -114,7 +114,7 @@ namespace twinflow::fem
                   MaterialValues<dim>                   &values) const override
     {
       if (time > levels[0] + 1e-12 * std::max(1.0, std::abs(time)))
-        levels = {time, levels[0], levels[1]};
+        levels = {{time, levels[0], levels[1]}};
       const double previous = levels[1], older = levels[2];
       values.resize(points.size());
       for (unsigned int q = 0; q < points.size(); ++q)

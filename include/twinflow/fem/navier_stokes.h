@@ -216,7 +216,6 @@ namespace twinflow::fem
     using Transfer = dealii::parallel::distributed::SolutionTransfer<dim, dealii::TrilinosWrappers::MPI::Vector>;
     std::unique_ptr<Transfer> velocity_transfer, pressure_transfer;
     bool                      rebuild_velocity_preconditioner = true;
-    bool                      rebuild_pressure_preconditioner = true; ///< variable-density Laplacian
 
     StepStatistics           stats;
     dealii::ConditionalOStream  silent_stream{std::cout, false};
