@@ -1,5 +1,6 @@
 #include <twinflow/core/errors.h>
 #include <twinflow/core/scene.h>
+#include <twinflow/solids/rigid_body.h>
 
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/utilities.h>
@@ -55,10 +56,26 @@ namespace twinflow
       prm.declare_entry("Motion", "fixed", Patterns::Selection("fixed|rigid|elastic"),
                         "fixed: does not move; rigid: 6-DoF rigid body; elastic: ANCF structure.");
       prm.declare_entry("Density", "1000", Patterns::Double(0), "Solid density [kg/m^3] (rigid/elastic).");
+      prm.declare_entry("Locked degrees of freedom", "", Patterns::Anything(),
+                        "Rigid: comma-separated DoFs held fixed, out of x, y, z, rx, ry, rz (world axes; 2D scenes "
+                        "always lock z, rx, ry). Empty: all free. E.g. 'x, rz' lets a 2D body move only vertically.");
+      prm.declare_entry("Initial velocity", "0, 0, 0", Patterns::Anything(),
+                        "Rigid: velocity of the centre at t = 0 [m/s] (dim numbers).");
+      prm.declare_entry("Initial angular velocity", "0, 0, 0", Patterns::Anything(),
+                        "Rigid: angular velocity at t = 0 [rad/s], 3 numbers (2D: only the z one may be non-zero).");
+      prm.declare_entry("Added mass coefficient", "0", Patterns::Double(0),
+                        "Rigid: C_a of Soeding's added-mass correction m_a = C_a rho_fluid V_body that keeps the "
+                        "explicit co-simulation of a light body stable (0: off; 1 suits a disk or a cylinder; any "
+                        "C_a above half the true one is stable).");
       prm.declare_entry("Young's modulus", "1e7", Patterns::Double(0), "[Pa] (elastic).");
       prm.declare_entry("Poisson's ratio", "0.4", Patterns::Double(0, 0.5), "[-] (elastic).");
     }
   } // namespace
+
+  bool Scene::has_moving_solids() const
+  {
+    return std::any_of(solids.begin(), solids.end(), [](const Solid &b) { return b.motion != SolidMotion::fixed; });
+  }
 
   bool Scene::wants(Method m) const { return std::find(methods.begin(), methods.end(), m) != methods.end(); }
 
@@ -141,6 +158,8 @@ namespace twinflow
 
     prm.enter_subsection("Solids");
     prm.declare_entry("Number of solids", "0", Patterns::Integer(0, 4), "Solids in the scene (each in 'Solid N').");
+    prm.declare_entry("Sub-steps per fluid step", "10", Patterns::Integer(1, 1000),
+                      "RK4 steps of each rigid body within one fluid step (the fluid load is held over them).");
     for (int i = 1; i <= 4; ++i)
     {
       prm.enter_subsection("Solid " + std::to_string(i));
@@ -326,6 +345,7 @@ namespace twinflow
 
     prm.enter_subsection("Solids");
     const int n_solids = prm.get_integer("Number of solids");
+    s.solid_substeps   = prm.get_integer("Sub-steps per fluid step");
     for (int i = 1; i <= n_solids; ++i)
     {
       const std::string path = "Solids/Solid " + std::to_string(i);
@@ -343,14 +363,39 @@ namespace twinflow
       b.density        = prm.get_double("Density");
       b.youngs_modulus = prm.get_double("Young's modulus");
       b.poisson_ratio  = prm.get_double("Poisson's ratio");
+      if (b.motion == SolidMotion::rigid)
+      {
+        require(b.density > 0, path + "/Density", prm.get("Density"), "a rigid body needs a density > 0");
+        try
+        {
+          solids::DofMask::parse_locked(prm.get("Locked degrees of freedom"), dim);
+        }
+        catch (const std::invalid_argument &e)
+        {
+          require(false, path + "/Locked degrees of freedom", prm.get("Locked degrees of freedom"), e.what());
+        }
+        b.locked_dofs = prm.get("Locked degrees of freedom");
+        b.initial_velocity = parse_point(prm.get("Initial velocity"), path + "/Initial velocity", dim);
+        b.initial_angular_velocity =
+          parse_point(prm.get("Initial angular velocity"), path + "/Initial angular velocity", 3);
+        require(dim == 3 || (b.initial_angular_velocity[0] == 0 && b.initial_angular_velocity[1] == 0),
+                path + "/Initial angular velocity", prm.get("Initial angular velocity"),
+                "a 2D body turns about z only: '0, 0, w'");
+        b.added_mass_coefficient = prm.get_double("Added mass coefficient");
+        require(b.shape != "plate", path + "/Shape", b.shape, "a rigid body is a disk, cylinder or box");
+      }
       require(!(b.shape == "disk" && dim != 2), path + "/Shape", b.shape, "disk is 2D; use cylinder in 3D");
       require(!(b.shape == "cylinder" && dim != 3), path + "/Shape", b.shape, "cylinder is 3D; use disk in 2D");
       if (b.shape == "disk" || b.shape == "cylinder")
       {
         require(b.radius > 0, path + "/Radius", prm.get("Radius"), "the radius must be > 0");
+        // A fixed solid may touch a wall; a rigid body must start clear of every wall.
+        const double slack = b.motion == SolidMotion::rigid ? -1e-9 : 1e-12;
         for (int d = 0; d < std::min(dim, 2); ++d)
-          require(b.center[d] - b.radius >= s.domain.lower[d] - 1e-12 && b.center[d] + b.radius <= s.domain.upper[d] + 1e-12,
-                  path + "/Center", prm.get("Center"), "the solid must lie inside the domain box");
+          require(b.center[d] - b.radius >= s.domain.lower[d] - slack && b.center[d] + b.radius <= s.domain.upper[d] + slack,
+                  path + "/Center", prm.get("Center"),
+                  b.motion == SolidMotion::rigid ? "a rigid body must start inside the domain box, clear of its walls"
+                                                 : "the solid must lie inside the domain box");
       }
       else if (b.shape == "box" || b.shape == "plate")
       {
@@ -360,8 +405,8 @@ namespace twinflow
         // The Length x Thickness rectangle centred at Center, its length along (cos Angle, sin Angle):
         // its four corners (in 3D its x-y footprint; it spans the whole depth) must lie in the box.
         const double ca = std::cos(b.angle), sa = std::sin(b.angle);
-        const double tolerance =
-          1e-12 * std::max({1.0, s.domain.upper[0] - s.domain.lower[0], s.domain.upper[1] - s.domain.lower[1]});
+        const double tolerance = (b.motion == SolidMotion::rigid ? -1e-9 : 1e-12) *
+                                 std::max({1.0, s.domain.upper[0] - s.domain.lower[0], s.domain.upper[1] - s.domain.lower[1]});
         for (const double u : {-0.5 * b.length, 0.5 * b.length})
           for (const double v : {-0.5 * b.thickness, 0.5 * b.thickness})
           {

@@ -53,8 +53,32 @@ namespace twinflow::sph
             n   = p.normal(x);
           }
         }
+        else if (s.shape == "cylinder")
+        {
+          // axis along z; one that spans a periodic depth is infinite (no caps inside the fluid)
+          const double span = scene.domain.upper[2] - scene.domain.lower[2];
+          if (scene.periodic[2] && s.length >= span * (1 - 1e-9))
+          {
+            geometry::Vec<2> c2{{c[0], c[1]}}, x2{{x[0], x[1]}};
+            const geometry::Ball<2> b(c2, s.radius);
+            phi = b.signed_distance(x2);
+            const geometry::Vec<2> n2 = b.normal(x2);
+            n   = geometry::Vec<dim>::zero();
+            n[0] = n2[0], n[1] = n2[1];
+          }
+          else
+          {
+            geometry::Vec<3> c3{{c[0], c[1], c[dim - 1]}}, x3{{x[0], x[1], x[dim - 1]}};
+            const geometry::Cylinder cyl(c3, geometry::Vec<3>::unit(2), s.radius, s.length);
+            phi = cyl.signed_distance(x3);
+            const geometry::Vec<3> n3 = cyl.normal(x3);
+            for (int d = 0; d < dim; ++d)
+              n[d] = n3[d];
+          }
+        }
         else
-          throw InputError("Solids/Solid/Shape = " + s.shape + ": 3D solids are not available in SPH yet; allowed: 2D disk, box, plate");
+          throw InputError("Solids/" + s.name + "/Shape = " + s.shape +
+                           ": this 3D solid is not available in SPH; allowed in 3D: cylinder (axis z)");
         if (phi < best)
         {
           best   = phi;

@@ -1,6 +1,7 @@
 #include <twinflow/sph/particle_setup.h>
 
 #include <twinflow/core/errors.h>
+#include <twinflow/io/body_monitor.h>
 #include <twinflow/io/csv_monitor.h>
 #include <twinflow/io/csv_table.h>
 #include <twinflow/io/front_reference.h>
@@ -16,6 +17,7 @@
 #include <twinflow/sph/open_boundary.h>
 #include <twinflow/sph/snapshot.h>
 #include <twinflow/sph/sph_simulation.h>
+#include <twinflow/solids/coupling.h>
 
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/timer.h>
@@ -41,8 +43,12 @@ namespace twinflow::sph
       SphRunResult  result;
       if (scene.has_solids())
         for (const auto &s : scene.solids)
-          if (s.motion != SolidMotion::fixed)
-            throw InputError("Solids/" + s.name + "/Motion: moving solids are not available in SPH yet; allowed: fixed");
+          if (s.motion == SolidMotion::elastic)
+            throw InputError("Solids/" + s.name + "/Motion = elastic: elastic solids are not available in SPH yet; "
+                             "allowed: fixed, rigid");
+      if (scene.has_moving_solids() && !prm.restart_file.empty())
+        throw InputError("SPH/Restart file = " + prm.restart_file +
+                         ": a restart does not carry the rigid bodies' state yet; run scenes with moving solids from t = 0");
       const Fluid &fluid = scene.fluids.front();
       const double h     = prm.h_over_dx * prm.spacing;
       const int    layers = static_cast<int>(std::ceil(2.0 * h / prm.spacing - 1e-9));
@@ -68,6 +74,22 @@ namespace twinflow::sph
 
       result.active_physics.push_back("implicit SPH (Algorithm 2, " + std::string(prm.consistent ? "consistent" : "standard") +
                                       " operators, " + engine->backend() + " backend)");
+      // Moving solids: rigid bodies co-simulated with the fluid (solids/coupling.h, Fig. 1).
+      std::optional<solids::CoSimulation> coupling;
+      if (scene.has_moving_solids())
+        coupling.emplace(scene);
+      std::vector<double> body_extent; // largest distance of a body's markers from its centre
+      if (coupling)
+        for (std::size_t b = 0; b < coupling->n_bodies(); ++b)
+        {
+          const Solid &sb = scene.solids[coupling->solid_index(b)];
+          body_extent.push_back(sb.shape == "disk" || sb.shape == "cylinder"
+                                  ? sb.radius
+                                  : 0.5 * std::hypot(sb.length, sb.thickness));
+        }
+      if (coupling)
+        for (const std::string &line : coupling->describe())
+          result.active_physics.push_back(line + ", moving BCE markers");
       result.active_physics.push_back(std::to_string(layers) + " BCE layers (" +
                                       (prm.neumann_walls ? "Neumann pressure rows" : "force-balance pressure rows") + ")");
       if (open.active())
@@ -155,6 +177,44 @@ namespace twinflow::sph
             }
           }
         }
+      std::optional<io::BodyMonitor> body_monitor;
+      std::vector<solids::BodyLoad>  loads(coupling ? coupling->n_bodies() : 0);
+      if (coupling)
+      {
+        body_monitor.emplace(dir, *coupling, dim, scene.gravity, self);
+        body_monitor->append(0, loads);
+      }
+      // Rigid motion of body b's markers from pose `from` to `to` with the rigid velocity field of `to`.
+      auto marker_motion = [&](std::size_t b, const solids::BodyKinematics &from, const solids::BodyKinematics &to) {
+        MarkerMotion m;
+        m.body                  = coupling->solid_index(b);
+        const solids::Matrix3 R = to.rotation * from.rotation.transpose();
+        for (int a = 0; a < 3; ++a)
+        {
+          m.from[a] = from.position[a], m.to[a] = to.position[a];
+          m.velocity[a] = to.velocity[a], m.angular_velocity[a] = to.angular_velocity[a];
+          m.acceleration[a] = to.acceleration[a], m.angular_acceleration[a] = to.angular_acceleration[a];
+          for (int c = 0; c < 3; ++c)
+            m.rotation[a][c] = R(a, c), m.orientation[a][c] = to.rotation(a, c);
+        }
+        const Solid &sb = scene.solids[m.body];
+        const bool   round = sb.shape == "disk" || sb.shape == "cylinder";
+        m.shape            = round ? 1 : 2;
+        m.half_size[0]     = round ? sb.radius : 0.5 * sb.length;
+        m.half_size[1]     = round ? sb.radius : 0.5 * sb.thickness;
+        return m;
+      };
+      // Fastest material point of the bodies (the CFL step also follows them).
+      auto body_speed = [&]() {
+        double v = 0;
+        if (coupling)
+          for (std::size_t b = 0; b < coupling->n_bodies(); ++b)
+          {
+            const solids::BodyKinematics k = coupling->kinematics(b);
+            v = std::max(v, k.velocity.norm() + k.angular_velocity.norm() * body_extent[b]);
+          }
+        return v;
+      };
       io::PvdSeries       pvd(dir, "particles", self);
       std::vector<double> output_times = start.output_times;
       for (std::size_t k = 0; k < output_times.size(); ++k)
@@ -263,7 +323,7 @@ namespace twinflow::sph
       {
         double dt = prm.time_step;
         if (prm.cfl > 0)
-          dt = std::min(dt, prm.cfl * h / std::max(engine->max_fluid_speed(), u_ref));
+          dt = std::min(dt, prm.cfl * h / std::max({engine->max_fluid_speed(), body_speed(), u_ref}));
         // Over the last (at most 10) steps, spread the remaining time evenly instead of ending
         // on a sliver step: the pressure of a step scales with its dt (the density-invariance
         // source, Eq. 55/57, goes as 1/dt^2), so a last step of a fraction of dt leaves a wrong
@@ -272,7 +332,40 @@ namespace twinflow::sph
         // every step is evenly spread (doc/benchmarks.md "SPH: spacing and operator study").
         const double remaining = scene.end_time - t;
         dt = remaining <= 10 * dt ? remaining / std::ceil(remaining / dt * (1 - 1e-9)) : std::min(dt, remaining);
+        // Co-simulation (Fig. 1): the bodies advance under the fluid's load of the last step; the
+        // fluid step then sees their new velocity and acceleration at the markers' current
+        // positions (as a fluid particle, a marker moves with its end-of-step velocity), and the
+        // markers move to the bodies' new pose after it.
+        std::vector<solids::BodyKinematics> pose_before;
+        if (coupling)
+        {
+          std::vector<MarkerMotion> motions;
+          for (std::size_t b = 0; b < coupling->n_bodies(); ++b)
+            pose_before.push_back(coupling->kinematics(b));
+          coupling->advance(dt, loads);
+          for (std::size_t b = 0; b < coupling->n_bodies(); ++b)
+          {
+            solids::BodyKinematics velocities_only = coupling->kinematics(b);
+            velocities_only.position = pose_before[b].position;
+            velocities_only.rotation = pose_before[b].rotation;
+            motions.push_back(marker_motion(b, pose_before[b], velocities_only));
+          }
+          engine->move_solids(motions);
+        }
         const StepReport &r = engine->step(dt);
+        if (coupling)
+        {
+          std::vector<MarkerMotion> motions;
+          for (std::size_t b = 0; b < coupling->n_bodies(); ++b)
+          {
+            const std::array<double, 3> F = engine->solid_force(coupling->solid_index(b));
+            const std::array<double, 3> T = engine->solid_torque(coupling->solid_index(b));
+            loads[b].force  = solids::Vector3(F[0], F[1], F[2]);
+            loads[b].torque = solids::Vector3(T[0], T[1], T[2]);
+            motions.push_back(marker_motion(b, pose_before[b], coupling->kinematics(b)));
+          }
+          engine->move_solids(motions);
+        }
         t += dt;
         ++result.steps;
         result.timings["neighbour search"] += r.t_neighbors;
@@ -312,6 +405,8 @@ namespace twinflow::sph
         }
         dealii::Timer out_timer;
         monitors(t, dt, &r);
+        if (body_monitor)
+          body_monitor->append(t, loads);
         snapshot(t);
         if (scene.output_interval > 0 && t >= next_output * (1 - 1e-9))
         {
@@ -388,6 +483,11 @@ namespace twinflow::sph
         if (scene.reference_lift)
           summary.add_error("lift coefficient C_l", cl, *scene.reference_lift, std::nullopt,
                             "SPH: mean over the last quarter of the run");
+      }
+      if (body_monitor)
+      {
+        body_monitor->summarise(summary, result.monitors);
+        summary.set_extra("rigid-body RK4 sub-steps", double(coupling->substeps_taken()));
       }
       summary.set_monitor_values(result.monitors);
       summary.set_extra("fluid particles", result.fluid_particles);

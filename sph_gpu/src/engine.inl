@@ -126,6 +126,34 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       thrust::copy(pressure.begin(), pressure.end(), p.p.begin());
       thrust::copy(rho.begin(), rho.end(), p.rho.begin());
       thrust::copy(kind.begin(), kind.end(), p.kind.begin());
+      // the markers' state, which moving solids change (so that set_particles(get_particles) is the identity)
+      p.wall_velocity.resize(n);
+      p.wall_acceleration.resize(n);
+      p.normal.resize(n);
+      thrust::copy(wall_velocity.begin(), wall_velocity.end(), p.wall_velocity.begin());
+      thrust::copy(wall_acceleration.begin(), wall_acceleration.end(), p.wall_acceleration.begin());
+      thrust::copy(normal.begin(), normal.end(), p.normal.begin());
+      p.body.resize(body.size());
+      thrust::copy(body.begin(), body.end(), p.body.begin());
+    }
+
+    void move_solids(const std::vector<MarkerMotion> &motions) override
+    {
+      if (motions.empty())
+        return;
+      for (const MarkerMotion &m : motions)
+        if (m.body >= 0 && m.body < solids)
+          for (int d = 0; d < 3; ++d)
+            torque_centres[m.body][d] = m.to[d];
+      dvec<MarkerMotion> device_motions(motions.begin(), motions.end());
+      const thrust::counting_iterator<int> first(0), last(n);
+      thrust::for_each(exec, first, last,
+                       detail::MoveMarkers<dim>{ptr(kind), body.empty() ? nullptr : ptr(body), ptr(device_motions),
+                                                static_cast<int>(motions.size()), ptr(x), ptr(normal),
+                                                ptr(wall_velocity), ptr(wall_acceleration)});
+      thrust::for_each(exec, first, last,
+                       detail::KeepOutOfSolids<dim>{ptr(kind), ptr(device_motions), static_cast<int>(motions.size()),
+                                                    0.25 * settings.spacing, ptr(x), ptr(u)});
     }
 
     const StepReport &step(const double dt) override
@@ -288,6 +316,11 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
 
     int n_solids() const override { return solids; }
 
+    std::array<double, 3> solid_torque(const int b) const override
+    {
+      return b >= 0 && b < static_cast<int>(torques.size()) ? torques[b] : std::array<double, 3>{{0, 0, 0}};
+    }
+
   private:
     /// A confined flow (no free surface) has a pure-Neumann pressure problem, solvable only
     /// if Σ_F V_i rhs_i = 0; the one-sided density term of Eq. 55 and the non-symmetric
@@ -349,6 +382,8 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
           solids = std::max(solids, p.body.empty() ? 1 : p.body[i] + 1);
       body.assign(p.body.begin(), p.body.end());
       forces.assign(solids, std::array<double, 3>{{0, 0, 0}});
+      torques.assign(solids, std::array<double, 3>{{0, 0, 0}});
+      torque_centres.resize(solids, std::array<double, 3>{{0, 0, 0}}); // kept across set_particles
     }
 
     /// Fluid force on each solid (doc/equations.md "Forces on solids"): one reduction for the
@@ -365,15 +400,21 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
         const double p_sum = thrust::transform_reduce(
           exec, first, last, detail::SolidMarkerPressure<dim>{ptr(kind), body_ptr, ptr(pressure), ptr(support), b}, 0.0,
           thrust::plus<double>());
+        // With a free surface the pressure level is absolute (p = 0 there) and a floating body is
+        // only partly wetted: no reference level. A confined flow's level is arbitrary: p̄_s.
+        const double p_ref = settings.free_surface || wetted == 0 ? 0.0 : p_sum / wetted;
         detail::SolidForce<dim> sf{ptr(x), ptr(u), ptr(wall_velocity), ptr(kind), body_ptr, ptr(nl.offsets),
                                    ptr(nl.indices), ptr(V), ptr(pressure), ptr(support), {}, box, W, settings.mu, dt,
-                                   1.0 / settings.rho0, wetted > 0 ? p_sum / wetted : 0.0, b};
+                                   1.0 / settings.rho0, p_ref, b};
         for (int d = 0; d < dim; ++d)
           sf.grad_p[d] = ptr(grad_p[d]);
         const Vec<dim> F = thrust::transform_reduce(exec, first, last, sf, Vec<dim>::zero(), detail::VecPlus<dim>());
         forces[b] = {{0, 0, 0}};
         for (int d = 0; d < dim; ++d)
           forces[b][d] = F[d];
+        detail::SolidTorque<dim> st{sf, {torque_centres[b][0], torque_centres[b][1], torque_centres[b][2]}};
+        const Vec<3> T = thrust::transform_reduce(exec, first, last, st, Vec<3>::zero(), detail::VecPlus<3>());
+        torques[b] = {{T[0], T[1], T[2]}};
       }
     }
 
@@ -388,7 +429,8 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     dvec<Vec<dim>>     x, x_start, u, u_cont, u_approach, wall_velocity, wall_acceleration, normal;
     dvec<double>       pressure, rho, support, V, rhs, tmp, comp, div_u, values, grad_p[dim];
     dvec<int>          kind, surface, body;
-    std::vector<std::array<double, 3>> forces; ///< per solid, from the last step
+    std::vector<std::array<double, 3>> forces, torques; ///< per solid, from the last step
+    std::vector<std::array<double, 3>> torque_centres;  ///< per solid: `to` of its last MarkerMotion
     int                solids = 0;
     static constexpr bool pin_confined_pressure = false;
     double             m0 = 0;

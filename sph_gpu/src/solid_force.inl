@@ -94,6 +94,129 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
     }
   };
 
+  /// Torque of marker a's force about `centre`: (x_a − c) × F_a (3 components; 2D: z only).
+  template <int dim>
+  struct SolidTorque
+  {
+    SolidForce<dim> force;
+    double          centre[3];
+    TWINFLOW_HD Vec<3> operator()(int a) const
+    {
+      const Vec<dim> f = force(a);
+      Vec<3>         r = Vec<3>::zero(), F = Vec<3>::zero();
+      for (int d = 0; d < dim; ++d)
+      {
+        r[d] = force.x[a][d] - centre[d];
+        F[d] = f[d];
+      }
+      return geometry::cross(r, F);
+    }
+  };
+
+  /// Rigid motion of the markers of the solids in `motions` (MarkerMotion, engine.h).
+  template <int dim>
+  struct MoveMarkers
+  {
+    const int          *kind, *body;
+    const MarkerMotion *motions;
+    int                 n_motions;
+    Vec<dim>           *x, *normal, *wall_velocity, *wall_acceleration;
+    TWINFLOW_HD void operator()(int i) const
+    {
+      if (kind[i] != ParticleKind::solid)
+        return;
+      const int b = body ? body[i] : 0;
+      for (int k = 0; k < n_motions; ++k)
+      {
+        const MarkerMotion &m = motions[k];
+        if (m.body != b)
+          continue;
+        Vec<3> r0 = Vec<3>::zero(), n0 = Vec<3>::zero(), r = Vec<3>::zero(), n = Vec<3>::zero();
+        for (int d = 0; d < dim; ++d)
+          r0[d] = x[i][d] - m.from[d], n0[d] = normal[i][d];
+        for (int a = 0; a < 3; ++a)
+          for (int c = 0; c < 3; ++c)
+            r[a] += m.rotation[a][c] * r0[c], n[a] += m.rotation[a][c] * n0[c];
+        const Vec<3> w{{m.angular_velocity[0], m.angular_velocity[1], m.angular_velocity[2]}};
+        const Vec<3> al{{m.angular_acceleration[0], m.angular_acceleration[1], m.angular_acceleration[2]}};
+        const Vec<3> wr = geometry::cross(w, r), ar = geometry::cross(al, r), wwr = geometry::cross(w, wr);
+        for (int d = 0; d < dim; ++d)
+        {
+          x[i][d]                 = m.to[d] + r[d];
+          normal[i][d]            = n[d];
+          wall_velocity[i][d]     = m.velocity[d] + wr[d];
+          wall_acceleration[i][d] = m.acceleration[d] + ar[d] + wwr[d];
+        }
+        return;
+      }
+    }
+  };
+
+  /// Last-resort no-penetration of the moved bodies (MarkerMotion::shape, Engine::move_solids).
+  template <int dim>
+  struct KeepOutOfSolids
+  {
+    const int          *kind;
+    const MarkerMotion *motions;
+    int                 n_motions;
+    double              margin;
+    Vec<dim>           *x, *u;
+    TWINFLOW_HD void operator()(int i) const
+    {
+      if (kind[i] != ParticleKind::fluid)
+        return;
+      for (int k = 0; k < n_motions; ++k)
+      {
+        const MarkerMotion &m = motions[k];
+        if (m.shape == 0)
+          continue;
+        double r[3] = {0, 0, 0}, q[2] = {0, 0};
+        for (int d = 0; d < dim; ++d)
+          r[d] = x[i][d] - m.to[d];
+        for (int a = 0; a < 2; ++a) // body-frame x–y of the point (Rᵀ r)
+          q[a] = m.orientation[0][a] * r[0] + m.orientation[1][a] * r[1] + m.orientation[2][a] * r[2];
+        double phi = 0, n[2] = {0, 0};
+        if (m.shape == 1)
+        {
+          const double rho = sqrt(q[0] * q[0] + q[1] * q[1]);
+          phi = rho - m.half_size[0];
+          n[0] = rho > 0 ? q[0] / rho : 1.0, n[1] = rho > 0 ? q[1] / rho : 0.0;
+        }
+        else
+        {
+          const double e0 = fabs(q[0]) - m.half_size[0], e1 = fabs(q[1]) - m.half_size[1];
+          if (e0 > 0 || e1 > 0)
+          {
+            const double o0 = e0 > 0 ? e0 : 0.0, o1 = e1 > 0 ? e1 : 0.0, len = sqrt(o0 * o0 + o1 * o1);
+            phi = len, n[0] = (q[0] < 0 ? -o0 : o0) / len, n[1] = (q[1] < 0 ? -o1 : o1) / len;
+          }
+          else if (e0 > e1)
+            phi = e0, n[0] = q[0] < 0 ? -1.0 : 1.0;
+          else
+            phi = e1, n[1] = q[1] < 0 ? -1.0 : 1.0;
+        }
+        if (phi >= margin)
+          continue;
+        // world normal and the push out to the margin
+        double nw[3];
+        for (int a = 0; a < 3; ++a)
+          nw[a] = m.orientation[a][0] * n[0] + m.orientation[a][1] * n[1];
+        for (int d = 0; d < dim; ++d)
+          x[i][d] += (margin - phi) * nw[d], r[d] = x[i][d] - m.to[d];
+        // body velocity there, v + ω × r, and no relative velocity into the body
+        const double us[3] = {m.velocity[0] + m.angular_velocity[1] * r[2] - m.angular_velocity[2] * r[1],
+                              m.velocity[1] + m.angular_velocity[2] * r[0] - m.angular_velocity[0] * r[2],
+                              m.velocity[2] + m.angular_velocity[0] * r[1] - m.angular_velocity[1] * r[0]};
+        double rel = 0;
+        for (int d = 0; d < dim; ++d)
+          rel += (u[i][d] - us[d]) * nw[d];
+        if (rel < 0)
+          for (int d = 0; d < dim; ++d)
+            u[i][d] -= rel * nw[d];
+      }
+    }
+  };
+
   template <int dim>
   struct VecPlus
   {

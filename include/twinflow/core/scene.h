@@ -42,6 +42,11 @@ namespace twinflow
     double                radius = 0, length = 0, thickness = 0, angle = 0;
     SolidMotion           motion = SolidMotion::fixed;
     double                density = 0, youngs_modulus = 0, poisson_ratio = 0;
+    // rigid (solids/rigid_body.h, solids/coupling.h)
+    std::string           locked_dofs;                        ///< e.g. "x, rz" (2D adds z, rx, ry)
+    std::array<double, 3> initial_velocity{{0, 0, 0}};
+    std::array<double, 3> initial_angular_velocity{{0, 0, 0}}; ///< 2D: only the z component
+    double                added_mass_coefficient = 0;         ///< m_a = C_a ρ_fluid V (Söding)
   };
 
   struct Scene
@@ -74,6 +79,9 @@ namespace twinflow
     std::array<double, 3> body_force{{0, 0, 0}};   ///< acceleration driving the flow
 
     std::vector<Solid> solids;
+    int                solid_substeps = 10; ///< rigid-body RK4 sub-steps per fluid step
+
+    bool has_moving_solids() const;
 
     // Monitors and references
     std::vector<std::string>           monitors;   ///< forces | pressure probes | energy

@@ -91,6 +91,27 @@ namespace twinflow::sph
     bool         converged() const;
   };
 
+  /// Rigid motion of one solid's BCE markers over a step (Engine::move_solids), 3 components
+  /// also in 2D: the markers of solid `body` go from x to to + R (x − from), their normals to
+  /// R n; their expected velocity and acceleration (u^p, a^p of Eq. 59 and 61) become
+  /// v + ω × r and a + α × r + ω × (ω × r) with r = x_new − to. `to` is also the point the
+  /// torque of solid_torque() is taken about.
+  struct MarkerMotion
+  {
+    int    body = 0;
+    double from[3] = {0, 0, 0}, to[3] = {0, 0, 0};
+    double rotation[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    double velocity[3] = {0, 0, 0}, angular_velocity[3] = {0, 0, 0};
+    double acceleration[3] = {0, 0, 0}, angular_acceleration[3] = {0, 0, 0};
+    /// Cross-section of the body in its x–y plane (all moving shapes are extrusions along z),
+    /// for the last-resort no-penetration of fluid particles: 0 none, 1 round (half_size[0] =
+    /// radius), 2 rectangle (half_size = half length, half thickness); `orientation`: body →
+    /// world rotation at `to`.
+    int    shape = 0;
+    double half_size[2] = {0, 0};
+    double orientation[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  };
+
   template <int dim>
   class Engine
   {
@@ -109,6 +130,15 @@ namespace twinflow::sph
     /// Number of solids with markers (1 + the largest HostParticles::body index; 1 if body is
     /// empty and there are solid markers; 0 without solid markers).
     virtual int                   n_solids() const = 0;
+    /// Fluid torque on solid @p body about the centre of its last MarkerMotion (the origin before
+    /// any), from the last step; 3 components (2D: z only).
+    virtual std::array<double, 3> solid_torque(int body) const = 0;
+    /// Moves the markers of each listed solid rigidly and sets their wall velocity and
+    /// acceleration (MarkerMotion); markers of other solids and walls are untouched. Fluid
+    /// particles found inside a moved body's cross-section (closer than a quarter spacing to its
+    /// surface) are put back on that offset and lose their velocity into the body, as the
+    /// domain walls do (a fluid particle inside the BCE layers cannot be pushed out by them).
+    virtual void                  move_solids(const std::vector<MarkerMotion> &motions) = 0;
   };
 
   /// Creates the engine of backend "cpu" or "cuda"; throws std::invalid_argument with

@@ -1,0 +1,91 @@
+#pragma once
+/**
+ * @file coupling.h
+ * Force–displacement co-simulation of the moving solids with a fluid solver (Section 3.3.3,
+ * Fig. 1), one interface for both the FEM and the SPH:
+ *
+ *   loop: (1) the fluid's force and torque on each body, from the last fluid step, are applied
+ *         (2) the bodies advance over Δt (RK4 sub-steps, rigid_body.h)
+ *         (3) their position, velocity and acceleration go back to the fluid as boundary data
+ *         (4) the fluid advances over the same Δt, giving the next loads.
+ *
+ * Light bodies in a heavy fluid (ρ_s ≲ ρ_w) are where this explicit scheme meets the
+ * added-mass instability; the bodies carry Söding's added-mass correction with
+ * m_a = C_a ρ_fluid V_body (Solids/Solid N/Added mass coefficient), stable for any C_a above
+ * half the body's true added-mass coefficient minus its mass ratio, at no extra fluid solve.
+ *
+ * Bodies are built from the scene's solids with Motion = rigid; `solids/` knows no fluid.
+ */
+#include <twinflow/core/scene.h>
+#include <twinflow/solids/rigid_body.h>
+
+#include <string>
+#include <vector>
+
+namespace twinflow::solids
+{
+  /// Fluid load on one body (force, torque about its centre of mass; world axes).
+  struct BodyLoad
+  {
+    Vector3 force  = Vector3::Zero();
+    Vector3 torque = Vector3::Zero();
+  };
+
+  /// What a fluid needs of a body: its pose and rigid velocity/acceleration fields.
+  struct BodyKinematics
+  {
+    Vector3 position = Vector3::Zero();             ///< centre of mass
+    Matrix3 rotation = Matrix3::Identity();         ///< body → world
+    Vector3 velocity = Vector3::Zero(), angular_velocity = Vector3::Zero();
+    Vector3 acceleration = Vector3::Zero(), angular_acceleration = Vector3::Zero();
+
+    /// u_s(p) = v + ω × (p − c) and a_s(p) = a + α × r + ω × (ω × r).
+    Vector3 point_velocity(const Vector3 &p) const { return velocity + angular_velocity.cross(p - position); }
+    Vector3 point_acceleration(const Vector3 &p) const
+    {
+      const Vector3 r = p - position;
+      return acceleration + angular_acceleration.cross(r) + angular_velocity.cross(angular_velocity.cross(r));
+    }
+  };
+
+  /// Volume of a scene solid (2D: per unit depth; 3D boxes/plates span @p span along z).
+  double solid_volume(const Solid &solid, int dim, double span);
+
+  /// Mass properties of a scene solid of its Density (2D: per unit depth).
+  MassProperties solid_mass_properties(const Solid &solid, int dim, double span);
+
+  class CoSimulation
+  {
+  public:
+    /// Builds one rigid body per scene solid with Motion = rigid (none: an empty coupling
+    /// that no fluid consults). @p fluid_density: ρ of fluid 1 (for the added mass).
+    explicit CoSimulation(const Scene &scene);
+
+    std::size_t n_bodies() const { return bodies.size(); }
+    bool        empty() const { return bodies.empty(); }
+    /// Index of the scene solid that body @p b is.
+    int         solid_index(std::size_t b) const { return solid_of_body[b]; }
+    /// Body of scene solid @p s, or −1 if that solid does not move.
+    int         body_of_solid(std::size_t s) const;
+
+    /// Steps (1)–(2): applies @p loads (one per body) and advances every body over @p dt.
+    void advance(double dt, const std::vector<BodyLoad> &loads);
+
+    BodyKinematics          kinematics(std::size_t b) const;
+    const RigidBody        &body(std::size_t b) const { return bodies[b]; }
+    const std::string      &name(std::size_t b) const { return names[b]; }
+    int                     substeps() const { return n_substeps; }
+    /// Total RK4 sub-steps taken (the coupling's cost, besides the fluid's load evaluation).
+    std::size_t             substeps_taken() const { return taken; }
+    /// One line per body for the run's "active physics" list.
+    std::vector<std::string> describe() const;
+
+  private:
+    std::vector<RigidBody>   bodies;
+    std::vector<int>         solid_of_body;
+    std::vector<std::string> names;
+    std::vector<double>      added_mass;
+    int                      n_substeps = 1;
+    std::size_t              taken      = 0;
+  };
+} // namespace twinflow::solids

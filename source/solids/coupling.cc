@@ -1,0 +1,116 @@
+#include <twinflow/solids/coupling.h>
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace twinflow::solids
+{
+  double solid_volume(const Solid &s, const int dim, const double span)
+  {
+    if (s.shape == "disk")
+      return M_PI * s.radius * s.radius;
+    if (s.shape == "cylinder")
+      return M_PI * s.radius * s.radius * s.length;
+    return s.length * s.thickness * (dim == 3 ? span : 1.0); // box, plate
+  }
+
+  MassProperties solid_mass_properties(const Solid &s, const int dim, const double span)
+  {
+    if (!(s.density > 0))
+      throw std::invalid_argument("Solids/" + s.name + "/Density = " + std::to_string(s.density) +
+                                  ": a moving solid needs a density > 0");
+    if (s.shape == "disk")
+      return MassProperties::cylinder(s.density, s.radius, 1.0);
+    if (s.shape == "cylinder")
+      return MassProperties::cylinder(s.density, s.radius, s.length);
+    return MassProperties::box(s.density, s.length, s.thickness, dim == 3 ? span : 1.0);
+  }
+
+  CoSimulation::CoSimulation(const Scene &scene)
+  {
+    const int    dim  = scene.dimension;
+    const double span = dim == 3 ? scene.domain.upper[2] - scene.domain.lower[2] : 1.0;
+    const double rho_fluid = scene.fluids.empty() ? 0.0 : scene.fluids.front().density;
+    n_substeps = scene.solid_substeps;
+    for (std::size_t k = 0; k < scene.solids.size(); ++k)
+    {
+      const Solid &s = scene.solids[k];
+      if (s.motion != SolidMotion::rigid)
+        continue;
+      RigidBodyState initial;
+      for (int d = 0; d < dim; ++d)
+      {
+        initial.position[d] = s.center[d];
+        initial.velocity[d] = s.initial_velocity[d];
+      }
+      if (dim == 2 && s.shape == "cylinder")
+        throw std::invalid_argument("Solids/" + s.name + "/Shape: a cylinder is 3D");
+      initial.orientation = Quaternion(Eigen::AngleAxisd(s.angle, Vector3::UnitZ()));
+      const DofMask mask  = DofMask::parse_locked(s.locked_dofs, dim);
+      RigidBody     body(solid_mass_properties(s, dim, span), initial, mask, Vector3(scene.gravity[0], scene.gravity[1],
+                                                                                      dim == 3 ? scene.gravity[2] : 0.0));
+      body.set_angular_velocity(Vector3(dim == 3 ? s.initial_angular_velocity[0] : 0.0,
+                                        dim == 3 ? s.initial_angular_velocity[1] : 0.0, s.initial_angular_velocity[2]));
+      const double ma = s.added_mass_coefficient * rho_fluid * solid_volume(s, dim, span);
+      body.set_added_mass(ma, 0.0);
+      bodies.push_back(body);
+      solid_of_body.push_back(static_cast<int>(k));
+      names.push_back(s.name);
+      added_mass.push_back(ma);
+    }
+  }
+
+  int CoSimulation::body_of_solid(const std::size_t s) const
+  {
+    for (std::size_t b = 0; b < solid_of_body.size(); ++b)
+      if (solid_of_body[b] == static_cast<int>(s))
+        return static_cast<int>(b);
+    return -1;
+  }
+
+  void CoSimulation::advance(const double dt, const std::vector<BodyLoad> &loads)
+  {
+    if (loads.size() != bodies.size())
+      throw std::logic_error("CoSimulation::advance: one load per body expected");
+    for (std::size_t b = 0; b < bodies.size(); ++b)
+    {
+      bodies[b].set_load(loads[b].force, loads[b].torque);
+      bodies[b].advance(dt, n_substeps);
+      taken += n_substeps;
+    }
+  }
+
+  BodyKinematics CoSimulation::kinematics(const std::size_t b) const
+  {
+    const RigidBody &r = bodies[b];
+    BodyKinematics   k;
+    k.position             = r.state().position;
+    k.rotation             = r.rotation();
+    k.velocity             = r.state().velocity;
+    k.angular_velocity     = r.angular_velocity();
+    k.acceleration         = r.acceleration();
+    k.angular_acceleration = r.angular_acceleration();
+    return k;
+  }
+
+  std::vector<std::string> CoSimulation::describe() const
+  {
+    std::vector<std::string> out;
+    for (std::size_t b = 0; b < bodies.size(); ++b)
+    {
+      static const char *dof[6] = {"x", "y", "z", "rx", "ry", "rz"};
+      std::ostringstream s;
+      s << "rigid body '" << names[b] << "' (m = " << bodies[b].mass_properties().mass << " kg, free DoFs:";
+      for (int i = 0; i < 6; ++i)
+        if (bodies[b].dofs().free[i])
+          s << " " << dof[i];
+      s << "; RK4, " << n_substeps << " sub-steps per fluid step; explicit force-displacement coupling";
+      if (added_mass[b] > 0)
+        s << " with Soeding's added-mass correction m_a = " << added_mass[b] << " kg";
+      s << ")";
+      out.push_back(s.str());
+    }
+    return out;
+  }
+} // namespace twinflow::solids
