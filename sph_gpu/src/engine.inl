@@ -400,9 +400,15 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
         const double p_sum = thrust::transform_reduce(
           exec, first, last, detail::SolidMarkerPressure<dim>{ptr(kind), body_ptr, ptr(pressure), ptr(support), b}, 0.0,
           thrust::plus<double>());
-        // With a free surface the pressure level is absolute (p = 0 there) and a floating body is
-        // only partly wetted: no reference level. A confined flow's level is arbitrary: p̄_s.
-        const double p_ref = settings.free_surface || wetted == 0 ? 0.0 : p_sum / wetted;
+        // p̄_s removes the discrete error of the pressure level over a closed wetted surface (its
+        // exact integral is zero there): for confined flows (arbitrary level) and bodies fully
+        // under water. A body that pierces the free surface (a marker sees a p = 0 particle) has an
+        // open wetted surface on which the absolute level acts: no reference then.
+        const int pierces = thrust::transform_reduce(
+          exec, first, last,
+          detail::MarkerMeetsFreeSurface<dim>{ptr(kind), body_ptr, ptr(nl.offsets), ptr(nl.indices), ptr(surface), b}, 0,
+          thrust::plus<int>());
+        const double p_ref = pierces > 0 || wetted == 0 ? 0.0 : p_sum / wetted;
         detail::SolidForce<dim> sf{ptr(x), ptr(u), ptr(wall_velocity), ptr(kind), body_ptr, ptr(nl.offsets),
                                    ptr(nl.indices), ptr(V), ptr(pressure), ptr(support), {}, box, W, settings.mu, dt,
                                    1.0 / settings.rho0, p_ref, b};

@@ -34,6 +34,27 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
     }
   };
 
+  /// 1 if marker i of solid `target` has a free-surface fluid neighbour (its wetted surface is
+  /// then open: the body pierces the free surface).
+  template <int dim>
+  struct MarkerMeetsFreeSurface
+  {
+    const int *kind, *body, *offsets, *indices, *surface;
+    int        target;
+    TWINFLOW_HD int operator()(int a) const
+    {
+      if (kind[a] != ParticleKind::solid || (body ? body[a] != target : target != 0))
+        return 0;
+      for (int k = offsets[a]; k < offsets[a + 1]; ++k)
+      {
+        const int b = indices[k];
+        if (kind[b] == ParticleKind::fluid && surface[b])
+          return 1;
+      }
+      return 0;
+    }
+  };
+
   /// Contribution of BCE marker a of solid `target` to the fluid force on that solid:
   ///   F_a = Σ_{b∈F} V_a V_b [ (p_b + p_a − 2p̄) ∇_b W_ba − 2μ (W'(r_ab)/r_ab) (u_b − ũ_a) ],
   /// the pairwise-antisymmetric SPH form of ∮ (−p n + μ ∂u/∂n) dS (doc/equations.md, Eq. 19–20
