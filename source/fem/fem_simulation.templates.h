@@ -156,9 +156,15 @@ namespace twinflow::fem
   {
     body_fitted = scene.geometry == "channel with cylinder" || scene.geometry == "box with cylinder";
     for (const auto &s : scene.solids)
-      if (s.motion != SolidMotion::fixed)
-        throw InputError("Solids/" + s.name + "/Motion: moving solids (rigid body, ANCF) are not available in the "
-                         "FEM yet; allowed now: fixed");
+      if (s.motion == SolidMotion::elastic)
+        throw InputError("Solids/" + s.name + "/Motion = elastic: elastic solids (ANCF) are not available in the "
+                         "FEM yet; allowed now: fixed, rigid");
+    if (scene.has_moving_solids() && (scene.geometry != "box"))
+      throw InputError("Domain/Geometry = " + scene.geometry + ": a rigid (moving) solid needs the immersed boundary "
+                       "of the 'box' geometry; the body-fitted geometries hold a fixed cylinder");
+    if (scene.has_moving_solids() && !prm.restart_file.empty())
+      throw InputError("FEM/Restart file = " + prm.restart_file +
+                       ": a restart does not carry the rigid bodies' state yet; run scenes with moving solids from t = 0");
     const bool free_surface = scene.has_free_surface();
     if (free_surface)
       compose_free_surface(); // the level-set space and the two-phase material
@@ -188,7 +194,7 @@ namespace twinflow::fem
       physics.push_back(navier_stokes.get());
 
     std::vector<std::string> &active = result.active_physics;
-    std::vector<std::string>  idle{"rigid body", "ANCF"};
+    std::vector<std::string>  idle{"ANCF"};
     if (free_surface)
     {
       active.push_back("navier-stokes (two phases, variable density)");
@@ -207,10 +213,22 @@ namespace twinflow::fem
     {
       ibm = std::make_unique<ImmersedBoundary<dim>>(scene, prm.immersed_boundary);
       navier_stokes->add_momentum_term(*ibm);
-      active.push_back("immersed boundary (Nitsche + penalty, " + std::to_string(scene.solids.size()) + " fixed solid(s))");
+      const auto moving = std::count_if(scene.solids.begin(), scene.solids.end(),
+                                        [](const Solid &b) { return b.motion == SolidMotion::rigid; });
+      active.push_back("immersed boundary (Nitsche + penalty, " + std::to_string(scene.solids.size() - moving) +
+                       " fixed and " + std::to_string(moving) + " moving solid(s))");
     }
     else
       idle.insert(idle.begin(), "immersed boundary");
+    if (scene.has_moving_solids())
+    {
+      coupling = std::make_unique<solids::CoSimulation>(scene);
+      body_loads.assign(coupling->n_bodies(), solids::BodyLoad());
+      for (const std::string &line : coupling->describe())
+        active.push_back(line + ", the IBM's phi_s and u_s follow it");
+    }
+    else
+      idle.insert(idle.begin(), "rigid body");
     const bool interfaces = ibm != nullptr || free_surface;
     if (ibm && prm.adaptation.enabled() && prm.immersed_boundary.interface_width > prm.adaptation.band_width)
       throw InputError("FEM/Mesh adaptation/Band width = " + std::to_string(prm.adaptation.band_width) +
@@ -400,8 +418,82 @@ namespace twinflow::fem
   {
     double dt = prm.time_step;
     if (prm.cfl > 0)
-      dt = std::min(dt, prm.cfl * h_min / std::max(navier_stokes->max_velocity(), 1e-12));
+      dt = std::min(dt, prm.cfl * h_min / std::max({navier_stokes->max_velocity(), body_speed(), 1e-12}));
     return std::min(dt, scene.end_time - navier_stokes->time());
+  }
+
+  template <int dim>
+  void FemSimulation<dim>::advance_bodies(const double dt)
+  {
+    if (!coupling)
+      return;
+    coupling->advance(dt, body_loads);
+    for (std::size_t b = 0; b < coupling->n_bodies(); ++b)
+    {
+      const solids::BodyKinematics k = coupling->kinematics(b);
+      Point<dim>                   c;
+      Tensor<2, dim>               R;
+      Tensor<1, dim>               v;
+      Tensor<1, 3>                 w;
+      for (unsigned int i = 0; i < dim; ++i)
+      {
+        c[i] = k.position[i];
+        v[i] = k.velocity[i];
+        for (unsigned int j = 0; j < dim; ++j)
+          R[i][j] = k.rotation(i, j);
+      }
+      for (unsigned int i = 0; i < 3; ++i)
+        w[i] = k.angular_velocity[i];
+      ibm->solids()[coupling->solid_index(b)]->set_motion(c, R, v, w);
+    }
+  }
+
+  template <int dim>
+  void FemSimulation<dim>::record_body_loads()
+  {
+    if (!coupling)
+      return;
+    const auto loads = ibm->loads(*navier_stokes); // torque about each solid's current centre
+    for (std::size_t b = 0; b < coupling->n_bodies(); ++b)
+    {
+      const SolidLoad<dim> &l = loads[coupling->solid_index(b)];
+      body_loads[b]           = solids::BodyLoad();
+      for (unsigned int d = 0; d < dim; ++d)
+        body_loads[b].force[d] = l.force[d];
+      for (unsigned int d = 0; d < 3; ++d)
+        body_loads[b].torque[d] = l.torque[d];
+      if (!body_loads[b].force.allFinite() || !body_loads[b].torque.allFinite())
+        throw std::runtime_error("FEM solution diverged at t = " + std::to_string(navier_stokes->time()) +
+                                 ": the fluid load on body '" + coupling->name(b) + "' is not finite; reduce FEM/Time "
+                                 "step or FEM/CFL number. Monitors written so far are kept in " + dir);
+    }
+    if (body_monitor)
+      body_monitor->append(navier_stokes->time(), body_loads);
+  }
+
+  template <int dim>
+  double FemSimulation<dim>::bodies_energy() const
+  {
+    double e = 0;
+    if (coupling)
+      for (std::size_t b = 0; b < coupling->n_bodies(); ++b)
+        e += coupling->body(b).kinetic_energy() + coupling->body(b).potential_energy();
+    return e;
+  }
+
+  template <int dim>
+  double FemSimulation<dim>::body_speed() const
+  {
+    double v = 0;
+    if (coupling)
+      for (std::size_t b = 0; b < coupling->n_bodies(); ++b)
+      {
+        const solids::BodyKinematics k = coupling->kinematics(b);
+        const Solid &s = scene.solids[coupling->solid_index(b)];
+        const double extent = s.shape == "disk" || s.shape == "cylinder" ? s.radius : 0.5 * std::hypot(s.length, s.thickness);
+        v = std::max(v, k.velocity.norm() + k.angular_velocity.norm() * extent);
+      }
+    return v;
   }
 
   template <int dim>
@@ -440,8 +532,10 @@ namespace twinflow::fem
                                  std::to_string(ns.n_steps()) + "): the CFL step fell to " + std::to_string(dt) +
                                  " s (max |u| = " + std::to_string(ns.max_velocity()) +
                                  " m/s); reduce FEM/CFL number or refine. Monitors written so far are kept in " + dir);
+      advance_bodies(dt); // Fig. 1: the bodies move under the last step's loads; φ_s, u_s follow
       for (auto *p : physics)
         p->advance(dt);
+      record_body_loads();
       if (ls_space)
         ls_space->add_travel(ns.max_velocity() * dt); // the surface moved at most this far
       const StepStatistics &st = ns.statistics();

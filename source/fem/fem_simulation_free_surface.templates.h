@@ -160,7 +160,9 @@ namespace twinflow::fem
   {
     const double              t = navier_stokes->time();
     const FreeSurfaceMeasures m = free_surface_measures();
-    const double              e_water = m.kinetic_water + m.potential_water, e_all = m.kinetic_all + m.potential_all;
+    // the system: both phases and the moving bodies (the fluid inside a body is its ghost flow)
+    const double e_water = m.kinetic_water + m.potential_water,
+                 e_all   = m.kinetic_all + m.potential_all + bodies_energy();
     if (navier_stokes->n_steps() == 0 || initial_volume == 0)
     {
       initial_volume = m.water_volume;

@@ -75,6 +75,11 @@ namespace twinflow::fem
     else if (scene.monitors_contain("energy"))
       energy_csv = open("energy.csv", {"time", "kinetic energy", "divergence L2", "dt", "cells"},
                         {"s", "J", "1/s", "s", "-"}, "energy");
+    if (coupling)
+    {
+      body_monitor = std::make_unique<io::BodyMonitor>(dir, *coupling, dim, scene.gravity, comm);
+      body_monitor->append(t0, body_loads);
+    }
     pvd = std::make_unique<io::PvdSeries>(dir, "solution", comm);
     if (restarted && io::is_root_process(comm))
       std::cout << "FEM restart from " << prm.restart_file << ": t = " << t0 << " s, step " << navier_stokes->n_steps()
@@ -248,6 +253,11 @@ namespace twinflow::fem
     }
     if (ls_space)
       io::add_front_reference_errors(scene, front_time, front_position, summary, result.monitors);
+    if (body_monitor)
+    {
+      body_monitor->summarise(summary, result.monitors);
+      summary.set_extra("rigid-body RK4 sub-steps", double(coupling->substeps_taken()));
+    }
     summary.set_monitor_values(result.monitors);
     summary.set_extra("active physics", internal::join(result.active_physics, "; "));
     summary.set_extra("mpi ranks", Utilities::MPI::n_mpi_processes(comm));

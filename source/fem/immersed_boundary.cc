@@ -4,6 +4,7 @@
 #include <twinflow/geometry/geometry.h>
 
 #include <deal.II/base/quadrature_lib.h>
+#include <deal.II/base/symmetric_tensor.h>
 #include <deal.II/fe/fe_values.h>
 
 #include <cmath>
@@ -80,8 +81,10 @@ namespace twinflow::fem
   } // namespace
 
   template <int dim>
-  ImmersedSolid<dim>::ImmersedSolid(const Solid &s, const double span)
+  ImmersedSolid<dim>::ImmersedSolid(const Solid &s, const double span, const bool periodic_span)
     : label(s.name)
+    , rotation(unit_symmetric_tensor<dim>())
+    , adapted_rotation(unit_symmetric_tensor<dim>())
   {
     geometry::Vec<dim> c;
     for (int d = 0; d < dim; ++d)
@@ -89,7 +92,9 @@ namespace twinflow::fem
       c[d]      = s.center[d];
       centre[d] = s.center[d];
     }
+    initial_centre = adapted_centre = centre;
     const bool flat = s.shape == "box" || s.shape == "plate";
+    extent          = flat ? 0.5 * std::hypot(s.length, s.thickness) : s.radius;
     if (flat && (s.length <= 0 || s.thickness <= 0))
       throw InputError("Solids/" + s.name + "/Shape = " + s.shape +
                        ": a box or plate needs Length > 0 and Thickness > 0");
@@ -106,7 +111,8 @@ namespace twinflow::fem
     {
       if (s.shape == "cylinder")
       {
-        const double length = s.length > 0 ? s.length : 4 * span; // 0: across the whole span
+        // 0, or all of a periodic span: infinite (no caps at the periodic faces)
+        const double length = s.length > 0 && !(periodic_span && s.length >= span * (1 - 1e-9)) ? s.length : 4 * span;
         bind<3>(geometry::Cylinder(c, geometry::Vec<3>::unit(2), s.radius, length), phi, grad_phi);
       }
       else if (flat)
@@ -120,15 +126,47 @@ namespace twinflow::fem
   }
 
   template <int dim>
+  Point<dim> ImmersedSolid<dim>::to_initial_frame(const Point<dim> &x) const
+  {
+    if (!moved)
+      return x;
+    return initial_centre + transpose(rotation) * (x - centre);
+  }
+
+  template <int dim>
   double ImmersedSolid<dim>::distance(const Point<dim> &x) const
   {
-    return phi(x);
+    return phi(to_initial_frame(x));
   }
 
   template <int dim>
   Tensor<1, dim> ImmersedSolid<dim>::normal(const Point<dim> &x) const
   {
-    return grad_phi(x);
+    return moved ? Tensor<1, dim>(rotation * grad_phi(to_initial_frame(x))) : grad_phi(x);
+  }
+
+  template <int dim>
+  void ImmersedSolid<dim>::set_motion(const Point<dim> &c, const Tensor<2, dim> &R, const Tensor<1, dim> &v,
+                                      const Tensor<1, 3> &w)
+  {
+    centre                 = c;
+    rotation               = R;
+    translational_velocity = v;
+    angular_velocity       = w;
+    moved                  = true;
+  }
+
+  template <int dim>
+  double ImmersedSolid<dim>::displacement_since_adaptation() const
+  {
+    return (centre - adapted_centre).norm() + extent * (rotation - adapted_rotation).norm();
+  }
+
+  template <int dim>
+  void ImmersedSolid<dim>::mark_adapted()
+  {
+    adapted_centre   = centre;
+    adapted_rotation = rotation;
   }
 
   template <int dim>

@@ -18,7 +18,7 @@ namespace twinflow::fem
   {
     const double span = dim == 3 ? scene.domain.upper[2] - scene.domain.lower[2] : 0.0;
     for (const auto &s : scene.solids)
-      bodies.push_back(std::make_unique<ImmersedSolid<dim>>(s, span));
+      bodies.push_back(std::make_unique<ImmersedSolid<dim>>(s, span, dim == 3 && scene.periodic[2]));
   }
 
   template <int dim>

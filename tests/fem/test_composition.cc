@@ -107,15 +107,15 @@ TEST(Composition, UnavailableModulesAreRefusedClearly)
   }
   {
     const auto [scene, prm] = load("subsection Solids\n set Number of solids = 1\n subsection Solid 1\n"
-                                   "  set Center = 1, 0.5\n  set Radius = 0.1\n  set Motion = rigid\n end\nend\n");
+                                   "  set Center = 1, 0.5\n  set Radius = 0.1\n  set Motion = elastic\n end\nend\n");
     try
     {
-      fem::run_fem<2>(scene, prm, "composition_rigid");
-      FAIL() << "a moving solid must be refused until the rigid-body coupling exists";
+      fem::run_fem<2>(scene, prm, "composition_elastic");
+      FAIL() << "an elastic solid must be refused until the ANCF coupling exists";
     }
     catch (const InputError &e)
     {
-      EXPECT_NE(std::string(e.what()).find("fixed"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("allowed now: fixed, rigid"), std::string::npos) << e.what();
     }
   }
 }
@@ -151,6 +151,31 @@ TEST(Composition, FixedSolidBuildsImmersedBoundaryButNoRigidBody)
   EXPECT_GT(r.cells, 8u);          // refined towards the disk
   EXPECT_LT(r.cells, 256u);        // but not everywhere (uniform level 4: 512 cells)
   EXPECT_EQ(r.adaptations, 0u);    // a fixed solid: refined once, before the first step
+}
+
+TEST(Composition, RigidSolidWithoutFreeSurfaceBuildsNoLevelSet)
+{
+  // A heavy disk (20 rho_fluid) sinking in one fluid: rigid body + IBM, no level set; the band
+  // follows the body (re-adaptation as it moves).
+  const auto [scene, prm] = load("subsection Solids\n set Number of solids = 1\n subsection Solid 1\n"
+                                 "  set Center = 1, 0.5\n  set Radius = 0.1\n  set Motion = rigid\n"
+                                 "  set Density = 20\n  set Locked degrees of freedom = x, rz\n end\nend\n"
+                                 "subsection Fluids\n subsection Fluid 1\n  set Density = 1\n  set Viscosity = 0.01\n"
+                                 " end\nend\nsubsection Forces\n set Gravity = 0, -9.8\nend\n"
+                                 "subsection Scene\n set End time = 0.1\nend\n"
+                                 "subsection FEM\n set Time step = 0.005\n subsection Mesh adaptation\n"
+                                 "  set Minimum level = 1\n  set Maximum level = 4\n  set Band width = 2\n"
+                                 "  set Interval = 1\n end\nend\n");
+  fem::FemSimulation<2> sim(scene, prm, "composition_rigid_solid");
+  const auto            r = sim.run();
+  ASSERT_NE(sim.immersed_boundary(), nullptr);
+  EXPECT_TRUE(mentions(r.active_physics, "rigid body"));
+  EXPECT_FALSE(mentions(r.active_physics, "level set"));
+  EXPECT_GT(r.adaptations, 0u); // the band moved with the body
+  // it sank, and by less than free fall (buoyancy 1/20 of the weight, drag)
+  const double y = r.monitors.at("body solid final y");
+  EXPECT_LT(y, 0.5 - 0.25 * 0.5 * 9.8 * 0.01);
+  EXPECT_GT(y, 0.5 - 0.5 * 9.8 * 0.01 - 1e-9);
 }
 
 TEST(Composition, CflControlLimitsTheStep)

@@ -11,6 +11,8 @@
 #include <twinflow/fem/level_set.h>
 #include <twinflow/fem/mesh_adaptation.h>
 #include <twinflow/fem/navier_stokes.h>
+#include <twinflow/io/body_monitor.h>
+#include <twinflow/solids/coupling.h>
 
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/distributed/tria.h>
@@ -129,6 +131,14 @@ namespace twinflow::fem
     std::unique_ptr<VofTransport<dim>>                  vof;
     std::unique_ptr<Redistancing<dim>>                  redistance;
     std::unique_ptr<MassCorrection<dim>>                correction;
+    /// moving solids: rigid bodies co-simulated through the IBM (solids/coupling.h)
+    std::unique_ptr<solids::CoSimulation>               coupling;
+    std::vector<solids::BodyLoad>                       body_loads; ///< fluid loads of the last step
+    std::unique_ptr<io::BodyMonitor>                    body_monitor;
+    void advance_bodies(double dt);
+    void record_body_loads();
+    double bodies_energy() const;
+    double body_speed() const;
     std::shared_ptr<dealii::Function<dim>>              initial_water_distance;
     TwoFluids                                           two_fluids;
     unsigned int                                        vertical_axis = 1;

@@ -62,9 +62,10 @@ namespace twinflow::fem
   class ImmersedSolid : public AdaptationInterface<dim>
   {
   public:
-    /// Shapes: disk (2D), cylinder (3D, axis z, 'Length' along z), box and plate
-    /// (Length × Thickness, rotated by Angle about z; in 3D spanning @p span along z).
-    ImmersedSolid(const Solid &solid, double span);
+    /// Shapes: disk (2D), cylinder (3D, axis z, 'Length' along z; infinite if it spans a
+    /// periodic z, @p periodic_span), box and plate (Length × Thickness, rotated by Angle about
+    /// z; in 3D spanning @p span along z).
+    ImmersedSolid(const Solid &solid, double span, bool periodic_span = false);
 
     std::string name() const override { return label; }
     double      distance(const dealii::Point<dim> &x) const override;
@@ -74,7 +75,22 @@ namespace twinflow::fem
     dealii::Tensor<1, dim> velocity(const dealii::Point<dim> &x) const;
     const dealii::Point<dim> &center() const { return centre; }
 
+    /// Rigid motion (co-simulation, solids/coupling.h): the body's centre, its rotation from
+    /// the initial pose (body → world) and its velocity field v + ω × (x − c). φ_s follows:
+    /// φ_s(x) = φ_s,0(c_0 + Rᵀ(x − c)).
+    void set_motion(const dealii::Point<dim> &centre, const dealii::Tensor<2, dim> &rotation,
+                    const dealii::Tensor<1, dim> &velocity, const dealii::Tensor<1, 3> &angular_velocity);
+    /// Distance the surface moved since the last mark_adapted(): |Δc| + extent · |ΔR|.
+    double displacement_since_adaptation() const override;
+    void   mark_adapted() override;
+
   private:
+    dealii::Point<dim> to_initial_frame(const dealii::Point<dim> &x) const;
+
+    dealii::Point<dim>     initial_centre, adapted_centre;
+    dealii::Tensor<2, dim> rotation, adapted_rotation; ///< identity until set_motion
+    double                 extent = 0;                ///< largest distance of the surface from the centre
+    bool                   moved  = false;
     std::string                                            label;
     dealii::Point<dim>                                     centre;
     std::function<double(const dealii::Point<dim> &)>      phi;
