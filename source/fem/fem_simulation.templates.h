@@ -428,6 +428,7 @@ namespace twinflow::fem
     if (!coupling)
       return;
     coupling->advance(dt, body_loads);
+    coupling->check_clear_of_walls(scene);
     for (std::size_t b = 0; b < coupling->n_bodies(); ++b)
     {
       const solids::BodyKinematics k = coupling->kinematics(b);

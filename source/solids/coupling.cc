@@ -58,6 +58,7 @@ namespace twinflow::solids
       solid_of_body.push_back(static_cast<int>(k));
       names.push_back(s.name);
       added_mass.push_back(ma);
+      extent.push_back(s.shape == "disk" || s.shape == "cylinder" ? s.radius : 0.5 * std::hypot(s.length, s.thickness));
     }
   }
 
@@ -78,6 +79,30 @@ namespace twinflow::solids
       bodies[b].set_load(loads[b].force, loads[b].torque);
       bodies[b].advance(dt, n_substeps);
       taken += n_substeps;
+    }
+  }
+
+  void CoSimulation::check_clear_of_walls(const Scene &scene) const
+  {
+    static const char *faces[6] = {"left", "right", "bottom", "top", "front", "back"};
+    for (std::size_t b = 0; b < bodies.size(); ++b)
+    {
+      const Vector3 &c = bodies[b].state().position;
+      for (int d = 0; d < std::min(scene.dimension, 2); ++d) // bodies are extrusions along z
+      {
+        if (scene.periodic[d])
+          continue;
+        const bool low = c[d] - extent[b] <= scene.domain.lower[d], high = c[d] + extent[b] >= scene.domain.upper[d];
+        if (low || high)
+        {
+          std::ostringstream m;
+          m << "rigid body '" << names[b] << "' reached the " << faces[2 * d + (high ? 1 : 0)] << " wall at t = "
+            << bodies[b].time() << " s (centre " << c[d] << " m along " << "xyz"[d]
+            << "): there is no solid-wall contact model; the run stops here (a body denser than the fluid sinks to "
+               "the floor: end the scene before it lands, or lock its vertical degree of freedom)";
+          throw std::runtime_error(m.str());
+        }
+      }
     }
   }
 

@@ -343,6 +343,7 @@ namespace twinflow::sph
           for (std::size_t b = 0; b < coupling->n_bodies(); ++b)
             pose_before.push_back(coupling->kinematics(b));
           coupling->advance(dt, loads);
+          coupling->check_clear_of_walls(scene);
           for (std::size_t b = 0; b < coupling->n_bodies(); ++b)
           {
             solids::BodyKinematics velocities_only = coupling->kinematics(b);

@@ -71,6 +71,11 @@ namespace twinflow::solids
     /// Steps (1)–(2): applies @p loads (one per body) and advances every body over @p dt.
     void advance(double dt, const std::vector<BodyLoad> &loads);
 
+    /// Throws std::runtime_error naming the body, the wall and the time if a body's surface
+    /// reached a non-periodic face of @p scene's domain: there is no solid–wall contact model,
+    /// so a body that sinks to the floor (or is thrown against a wall) stops the run there.
+    void check_clear_of_walls(const Scene &scene) const;
+
     BodyKinematics          kinematics(std::size_t b) const;
     const RigidBody        &body(std::size_t b) const { return bodies[b]; }
     const std::string      &name(std::size_t b) const { return names[b]; }
@@ -84,7 +89,7 @@ namespace twinflow::solids
     std::vector<RigidBody>   bodies;
     std::vector<int>         solid_of_body;
     std::vector<std::string> names;
-    std::vector<double>      added_mass;
+    std::vector<double>      added_mass, extent; ///< extent: largest distance of the surface from the centre
     int                      n_substeps = 1;
     std::size_t              taken      = 0;
   };
