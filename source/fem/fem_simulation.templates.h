@@ -225,7 +225,8 @@ namespace twinflow::fem
       coupling = std::make_unique<solids::CoSimulation>(scene);
       body_loads.assign(coupling->n_bodies(), solids::BodyLoad());
       for (const std::string &line : coupling->describe())
-        active.push_back(line + ", the IBM's phi_s and u_s follow it");
+        active.push_back(line + ", the IBM's phi_s and u_s follow it; experimental: not validated, light bodies "
+                         "diverge (doc/user_guide.md, Limitations)");
     }
     else
       idle.insert(idle.begin(), "rigid body");
