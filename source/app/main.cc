@@ -1,6 +1,7 @@
 // twinflow: run a scene (.prm) with the FEM and/or SPH solvers.
 #include <twinflow/core/errors.h>
 #include <twinflow/core/scene.h>
+#include <twinflow/solids/coupling.h>
 #include <twinflow/fem/fem_simulation.h>
 #include <twinflow/io/mpi_utils.h>
 #include <twinflow/io/plots.h>
@@ -234,6 +235,22 @@ one folder per case, a table and error-against-cost plots): scripts/study.py --h
     };
     hline("C_d", scene.reference_drag);
     hline("C_l", scene.reference_lift);
+    // one rigid body under gravity along y: its weight on the fluid-force subplot (what the
+    // vertical force of a floating body settles to)
+    std::vector<const twinflow::Solid *> rigid;
+    for (const auto &s : scene.solids)
+      if (s.motion == twinflow::SolidMotion::rigid)
+        rigid.push_back(&s);
+    const double g = std::abs(scene.gravity[1]);
+    if (rigid.size() == 1 && g > 0 && scene.gravity[0] == 0 && scene.gravity[2] == 0)
+    {
+      const double span = scene.dimension == 3 ? scene.domain.upper[2] - scene.domain.lower[2] : 1.0;
+      const double m    = twinflow::solids::solid_mass_properties(*rigid.front(), scene.dimension, span).mass;
+      std::ostringstream spec;
+      spec.precision(12);
+      spec << "body:Fy=" << m * g * (scene.gravity[1] < 0 ? 1 : -1) << ":weight m g (floating equilibrium)";
+      arguments.insert(arguments.end(), {"--hline", spec.str()});
+    }
     return arguments;
   }
 
