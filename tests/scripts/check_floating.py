@@ -48,6 +48,8 @@ def main():
     p.add_argument("--radius", type=float, required=True)
     p.add_argument("--density-ratio", type=float, required=True)
     p.add_argument("--gravity", type=float, default=9.8)
+    p.add_argument("--length", type=float, default=1.0,
+                   help="axial length of a 3D cylinder spanning the depth (forces in N, not N/m)")
     p.add_argument("--rho-water", type=float, default=1000.0)
     p.add_argument("--from", dest="t0", type=float, default=0.0)
     p.add_argument("--position-tolerance", type=float, default=0.02)
@@ -64,7 +66,7 @@ def main():
             print(f"FAIL: column '{name}' of {a.csv} holds a non-finite value")
             return 1
     if a.bounded_only is not None:
-        volume = math.pi * a.radius**2
+        volume = math.pi * a.radius**2 * a.length
         mass = a.density_ratio * a.rho_water * volume
         bound = cols["kinetic energy"][0] + (mass + a.rho_water * volume) * a.gravity * a.bounded_only
         peak = max(cols["kinetic energy"])
@@ -85,7 +87,7 @@ def main():
         return 1
     mean_y, mean_f = sy / st, sf / st
     yc = equilibrium_centre(a.depth, a.width, a.radius, a.density_ratio, a.water_rises)
-    weight = a.density_ratio * a.rho_water * math.pi * a.radius**2 * a.gravity
+    weight = a.density_ratio * a.rho_water * math.pi * a.radius**2 * a.length * a.gravity
     dy = abs(mean_y - yc) / a.radius
     df = abs(mean_f - weight) / weight
     window = [v for tk, v in zip(t, y) if tk >= a.t0]
