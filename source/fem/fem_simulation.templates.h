@@ -419,7 +419,7 @@ namespace twinflow::fem
   {
     double dt = prm.time_step;
     if (prm.cfl > 0)
-      dt = std::min(dt, prm.cfl * h_min / std::max({navier_stokes->max_velocity(), body_speed(), 1e-12}));
+      dt = std::min(dt, prm.cfl * h_min / std::max({navier_stokes->max_velocity(), coupling ? coupling->max_surface_speed() : 0.0, 1e-12}));
     return std::min(dt, scene.end_time - navier_stokes->time());
   }
 
@@ -481,21 +481,6 @@ namespace twinflow::fem
       for (std::size_t b = 0; b < coupling->n_bodies(); ++b)
         e += coupling->body(b).kinetic_energy() + coupling->body(b).potential_energy();
     return e;
-  }
-
-  template <int dim>
-  double FemSimulation<dim>::body_speed() const
-  {
-    double v = 0;
-    if (coupling)
-      for (std::size_t b = 0; b < coupling->n_bodies(); ++b)
-      {
-        const solids::BodyKinematics k = coupling->kinematics(b);
-        const Solid &s = scene.solids[coupling->solid_index(b)];
-        const double extent = s.shape == "disk" || s.shape == "cylinder" ? s.radius : 0.5 * std::hypot(s.length, s.thickness);
-        v = std::max(v, k.velocity.norm() + k.angular_velocity.norm() * extent);
-      }
-    return v;
   }
 
   template <int dim>

@@ -1,5 +1,6 @@
 #include <twinflow/solids/coupling.h>
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -104,6 +105,14 @@ namespace twinflow::solids
         }
       }
     }
+  }
+
+  double CoSimulation::max_surface_speed() const
+  {
+    double v = 0;
+    for (std::size_t b = 0; b < bodies.size(); ++b)
+      v = std::max(v, bodies[b].state().velocity.norm() + bodies[b].angular_velocity().norm() * extent[b]);
+    return v;
   }
 
   BodyKinematics CoSimulation::kinematics(const std::size_t b) const

@@ -78,15 +78,6 @@ namespace twinflow::sph
       std::optional<solids::CoSimulation> coupling;
       if (scene.has_moving_solids())
         coupling.emplace(scene);
-      std::vector<double> body_extent; // largest distance of a body's markers from its centre
-      if (coupling)
-        for (std::size_t b = 0; b < coupling->n_bodies(); ++b)
-        {
-          const Solid &sb = scene.solids[coupling->solid_index(b)];
-          body_extent.push_back(sb.shape == "disk" || sb.shape == "cylinder"
-                                  ? sb.radius
-                                  : 0.5 * std::hypot(sb.length, sb.thickness));
-        }
       if (coupling)
         for (const std::string &line : coupling->describe())
           result.active_physics.push_back(line + ", moving BCE markers");
@@ -204,17 +195,6 @@ namespace twinflow::sph
         m.half_size[1]     = round ? sb.radius : 0.5 * sb.thickness;
         return m;
       };
-      // Fastest material point of the bodies (the CFL step also follows them).
-      auto body_speed = [&]() {
-        double v = 0;
-        if (coupling)
-          for (std::size_t b = 0; b < coupling->n_bodies(); ++b)
-          {
-            const solids::BodyKinematics k = coupling->kinematics(b);
-            v = std::max(v, k.velocity.norm() + k.angular_velocity.norm() * body_extent[b]);
-          }
-        return v;
-      };
       io::PvdSeries       pvd(dir, "particles", self);
       std::vector<double> output_times = start.output_times;
       for (std::size_t k = 0; k < output_times.size(); ++k)
@@ -323,7 +303,7 @@ namespace twinflow::sph
       {
         double dt = prm.time_step;
         if (prm.cfl > 0)
-          dt = std::min(dt, prm.cfl * h / std::max({engine->max_fluid_speed(), body_speed(), u_ref}));
+          dt = std::min(dt, prm.cfl * h / std::max({engine->max_fluid_speed(), coupling ? coupling->max_surface_speed() : 0.0, u_ref}));
         // Over the last (at most 10) steps, spread the remaining time evenly instead of ending
         // on a sliver step: the pressure of a step scales with its dt (the density-invariance
         // source, Eq. 55/57, goes as 1/dt^2), so a last step of a fraction of dt leaves a wrong

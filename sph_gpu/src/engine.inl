@@ -145,7 +145,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
         if (m.body >= 0 && m.body < solids)
           for (int d = 0; d < 3; ++d)
             torque_centres[m.body][d] = m.to[d];
-      dvec<MarkerMotion> device_motions(motions.begin(), motions.end());
+      device_motions.assign(motions.begin(), motions.end()); // a few bodies: no reallocation after the first
       const thrust::counting_iterator<int> first(0), last(n);
       thrust::for_each(exec, first, last,
                        detail::MoveMarkers<dim>{ptr(kind), body.empty() ? nullptr : ptr(body), ptr(device_motions),
@@ -437,6 +437,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     dvec<int>          kind, surface, body;
     std::vector<std::array<double, 3>> forces, torques; ///< per solid, from the last step
     std::vector<std::array<double, 3>> torque_centres;  ///< per solid: `to` of its last MarkerMotion
+    dvec<MarkerMotion>                 device_motions;  ///< move_solids' motions on the device
     int                solids = 0;
     static constexpr bool pin_confined_pressure = false;
     double             m0 = 0;

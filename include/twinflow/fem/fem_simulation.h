@@ -138,7 +138,6 @@ namespace twinflow::fem
     void advance_bodies(double dt);
     void record_body_loads();
     double bodies_energy() const;
-    double body_speed() const;
     std::shared_ptr<dealii::Function<dim>>              initial_water_distance;
     TwoFluids                                           two_fluids;
     unsigned int                                        vertical_axis = 1;

@@ -77,6 +77,9 @@ namespace twinflow::solids
     void check_clear_of_walls(const Scene &scene) const;
 
     BodyKinematics          kinematics(std::size_t b) const;
+    /// Largest speed of a material point on any body's surface, |v| + |ω| · extent (for the
+    /// fluid's CFL step); 0 without bodies.
+    double                  max_surface_speed() const;
     const RigidBody        &body(std::size_t b) const { return bodies[b]; }
     const std::string      &name(std::size_t b) const { return names[b]; }
     int                     substeps() const { return n_substeps; }
