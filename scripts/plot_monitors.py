@@ -20,7 +20,9 @@ Martin & Moyce surge front (nondimensional T, Z) on the dam-break front::
         --ref-x T --ref-y Z --monitor front --column x_front \
         --ref-x-scale 0.0539 --ref-y-scale 0.05715
 
-(the options may be repeated for several overlays).
+(the options may be repeated for several overlays). With ``--time-shift
+front:x_front=KEY`` the figure in the reference axes also shows each run delayed by the
+time its summary.json gives as monitor KEY (a fitted time origin).
 
 A constant reference value is drawn as a horizontal dashed line on one column's
 subplot with ``--hline MONITOR:COLUMN=VALUE[:LABEL]`` (repeatable), e.g. the
@@ -34,11 +36,25 @@ LABEL (may contain ':') is the legend entry, by default ``COLUMN = VALUE``.
 twinflow passes ``--hline forces:C_d=...:reference`` (and C_l) itself when the
 scene sets References/Drag coefficient (Lift coefficient). A malformed --hline
 is an error (exit status 2); one naming a monitor or column that no run wrote
-gives a warning. Uses matplotlib with the Agg backend, so no display is needed.
-Run with Debian's /usr/bin/python3.
+gives a warning.
+
+Every overlay of a tabulated reference also gets a figure in the reference's own axes,
+``<monitor>_<ref-y>_vs_<ref-x>.png`` (e.g. ``front_Z_vs_T.png``: the runs' x_front / a
+against t sqrt(2 g / a) beside the Martin & Moyce points).
+
+The measured errors go into the legend with ``--error-label MONITOR:COLUMN=QUANTITY``
+(repeatable): on that subplot each run's label is followed by the relative errors of the
+``errors`` entries of its ``summary.json`` whose quantity contains QUANTITY, e.g.
+``SPH: raw 10.6 %, time origin fitted 1.8 %``.
+
+Beside each PNG, a JSON file of the same name lists what was drawn on each panel (label,
+kind -- result, reference table or reference value --, source, number of points), so that a
+test can check that a reference is in a plot without reading pixels. Uses matplotlib with
+the Agg backend, so no display is needed. Run with Debian's /usr/bin/python3.
 """
 
 import argparse
+import json
 import math
 import os
 import sys
@@ -61,15 +77,16 @@ def split_name_unit(field):
     return field, ""
 
 
-def read_csv(path):
+def read_csv(path, strict=False):
     """Read a CSV with '#' comment lines and a header row.
 
     Returns (monitor name or None, headers, columns). Rows that do not parse
-    (e.g. a line being written by a running simulation) are skipped.
+    (e.g. a line being written by a running simulation) are skipped, unless
+    @p strict (a reference table): then such a row raises ValueError naming its line.
     """
     name, headers, columns = None, None, None
     with open(path, encoding="utf-8", errors="replace") as f:
-        for line in f:
+        for line_no, line in enumerate(f, start=1):
             s = line.strip()
             if not s:
                 continue
@@ -83,13 +100,20 @@ def read_csv(path):
                 columns = [[] for _ in headers]
                 continue
             if len(fields) != len(headers):
+                if strict:
+                    raise ValueError(f"line {line_no} has {len(fields)} fields, the header "
+                                     f"({', '.join(headers)}) has {len(headers)}")
                 continue
             try:
                 values = [float(x) for x in fields]
             except ValueError:
+                if strict:
+                    raise ValueError(f"line {line_no}: {s!r} is not a row of numbers") from None
                 continue
             for c, v in enumerate(values):
                 columns[c].append(v)
+    if strict and (not headers or len(columns[0]) < 2):
+        raise ValueError("expected a header line and at least two rows of numbers")
     return name, headers or [], columns or []
 
 
@@ -180,6 +204,17 @@ def parse_arguments(argv):
     ref.add_argument("--ref-y-scale", action="append", type=float, default=[],
                      help="y = scale * y_file (default 1)")
     ref.add_argument("--ref-label", action="append", default=[], help="legend label")
+    ref.add_argument("--ref-x-label", action="append", default=[],
+                     help="axis label of the reference's abscissa in its own axes (default: its column)")
+    ref.add_argument("--ref-y-label", action="append", default=[],
+                     help="axis label of the reference's ordinate in its own axes (default: its column)")
+    p.add_argument("--error-label", action="append", default=[], metavar="MONITOR:COLUMN=QUANTITY",
+                   help="on that subplot, follow each run's label by the relative errors of its "
+                   "summary.json whose quantity contains QUANTITY; repeatable")
+    p.add_argument("--time-shift", action="append", default=[], metavar="MONITOR:COLUMN=KEY",
+                   help="in the reference-axes figure of that overlay, also draw each run's curve "
+                   "delayed by the time its summary.json gives as monitor KEY [s] (dashed); "
+                   "repeatable")
     p.add_argument("--hline", action="append", default=[], metavar=HLINE_FORM,
                    help="horizontal dashed line at VALUE on that column's subplot, in the "
                    "legend as LABEL (default 'COLUMN = VALUE'); repeatable")
@@ -193,33 +228,105 @@ def parse_arguments(argv):
             p.error(f"--hline {spec!r}: {error}; expected {HLINE_FORM}, "
                     "e.g. --hline 'forces:C_d=5.58:body-fitted reference'")
 
+    args.error_labels = []
+    for spec in args.error_label:
+        target, equals, quantity = spec.partition("=")
+        monitor, colon, column = target.partition(":")
+        if not (equals and colon and monitor.strip() and column.strip() and quantity.strip()):
+            p.error(f"--error-label {spec!r}: expected MONITOR:COLUMN=QUANTITY, e.g. "
+                    "--error-label 'front:x_front=front position x_f(t)'")
+        args.error_labels.append((monitor.strip(), column.strip(), quantity.strip()))
+    args.time_shifts = []
+    for spec in args.time_shift:
+        target, equals, key = spec.partition("=")
+        monitor, colon, column = target.partition(":")
+        if not (equals and colon and monitor.strip() and column.strip() and key.strip()):
+            p.error(f"--time-shift {spec!r}: expected MONITOR:COLUMN=KEY, e.g. "
+                    "--time-shift 'front:x_front=front fitted time origin delay [s]'")
+        args.time_shifts.append((monitor.strip(), column.strip(), key.strip()))
+
     n = len(args.reference)
     for option in ("ref_x", "ref_y", "monitor", "column"):
         if len(getattr(args, option)) != n:
             p.error("--reference, --ref-x, --ref-y, --monitor and --column must be given "
                     "the same number of times")
-    for option in ("ref_x_scale", "ref_y_scale", "ref_label"):
+    for option in ("ref_x_scale", "ref_y_scale", "ref_label", "ref_x_label", "ref_y_label"):
         if len(getattr(args, option)) > n:
             p.error(f"--{option.replace('_', '-')} given more often than --reference")
     return args
 
 
 def load_references(args):
-    """[(monitor, column, label, x, y)]"""
+    """[Reference] of the --reference overlays; exits with a message naming the file and
+    what is wrong when a table cannot be read."""
     references = []
     for i, path in enumerate(args.reference):
-        _, headers, columns = read_csv(path)
+        try:
+            _, headers, columns = read_csv(path, strict=True)
+        except (OSError, ValueError) as error:
+            sys.exit(f"plot_monitors: reference {path}: {error}")
         ix, iy = column_index(headers, args.ref_x[i]), column_index(headers, args.ref_y[i])
         if ix is None or iy is None:
             sys.exit(f"plot_monitors: {path} has no column {args.ref_x[i]!r} or "
                      f"{args.ref_y[i]!r} (columns: {', '.join(headers)})")
-        sx = args.ref_x_scale[i] if i < len(args.ref_x_scale) else 1.0
-        sy = args.ref_y_scale[i] if i < len(args.ref_y_scale) else 1.0
-        label = args.ref_label[i] if i < len(args.ref_label) else \
-            os.path.splitext(os.path.basename(path))[0]
-        references.append((args.monitor[i], args.column[i], label,
-                           [sx * v for v in columns[ix]], [sy * v for v in columns[iy]]))
+        def option(name, default):
+            values = getattr(args, name)
+            return values[i] if i < len(values) else default
+        references.append(Reference(
+            monitor=args.monitor[i], column=args.column[i], path=path,
+            label=option("ref_label", table_title(path)),
+            x_name=headers[ix], y_name=headers[iy],
+            x_label=option("ref_x_label", headers[ix]), y_label=option("ref_y_label", headers[iy]),
+            x_scale=option("ref_x_scale", 1.0), y_scale=option("ref_y_scale", 1.0),
+            x_own=columns[ix], y_own=columns[iy]))
     return references
+
+
+def table_title(path):
+    """A reference table's name for a legend: its first comment line up to the first ','
+    ('Martin & Moyce (1952)'), else the file's name without extension."""
+    with open(path, encoding="utf-8", errors="replace") as f:
+        first = f.readline().strip()
+    if first.startswith("#") and first.lstrip("# ").strip():
+        return first.lstrip("# ").split(",")[0].strip()
+    return os.path.splitext(os.path.basename(path))[0]
+
+
+class Reference:
+    """A tabulated reference overlaid on MONITOR's COLUMN: its points in the file's own axes
+    (x_own, y_own) and in the monitor's (x = x_scale x_own, y = y_scale y_own)."""
+
+    def __init__(self, **fields):
+        self.__dict__.update(fields)
+        self.x = [self.x_scale * v for v in self.x_own]
+        self.y = [self.y_scale * v for v in self.y_own]
+
+
+def read_summary(directory):
+    """directory/summary.json as a dict, {} if there is none."""
+    try:
+        with open(os.path.join(directory, "summary.json"), encoding="utf-8") as f:
+            return json.load(f)
+    except (OSError, ValueError):
+        return {}
+
+
+def error_text(errors, quantity):
+    """'raw 10.6 %, time origin fitted 1.8 %' for the errors whose quantity contains QUANTITY
+    (one alone: 'error 3.2 %'); '' if none. The shortest matching quantity is the raw one,
+    the others are named by what they add to it."""
+    matches = [e for e in errors if quantity in e.get("quantity", "")
+               and isinstance(e.get("relative_error"), (int, float))]
+    if not matches:
+        return ""
+    matches.sort(key=lambda e: len(e["quantity"]))
+    base = matches[0]["quantity"]
+    parts = []
+    for k, e in enumerate(matches):
+        name = ("raw" if len(matches) > 1 else "error") if k == 0 else \
+            (e["quantity"][len(base):] if e["quantity"].startswith(base) else e["quantity"]).strip(" ,:")
+        parts.append(f"{name} {100 * e['relative_error']:.3g} %")
+    return ", ".join(parts)
 
 
 def hline_matches(hline_column, column, header):
@@ -227,11 +334,31 @@ def hline_matches(hline_column, column, header):
     return hline_column in (column, header)
 
 
-def plot_monitor(name, entries, references, hlines, output_dir, dpi):
-    """entries: [(label, headers, columns)] of one monitor; hlines: [(monitor, column,
+def safe_name(name):
+    return "".join(c if c.isalnum() or c in "-_." else "_" for c in name)
+
+
+def write_description(png, description):
+    """The JSON beside @p png: what each panel shows."""
+    with open(os.path.splitext(png)[0] + ".json", "w", encoding="utf-8") as f:
+        json.dump(description, f, indent=1)
+        f.write("\n")
+
+
+def run_label(label, summary, name, column, error_labels):
+    """The legend label of one run on MONITOR name's COLUMN, with the measured errors of its
+    summary."""
+    errors = summary.get("errors", [])
+    texts = [error_text(errors, q) for m, c, q in error_labels if m == name and c == column]
+    texts = [t for t in texts if t]
+    return label + (": " + "; ".join(texts) if texts else "")
+
+
+def plot_monitor(name, entries, references, hlines, error_labels, output_dir, dpi):
+    """entries: [(label, headers, columns, summary)] of one monitor; hlines: [(monitor, column,
     value, label)]. Returns the PNG path."""
     names, headers_of = [], {}
-    for _, headers, _ in entries:
+    for _, headers, _, _ in entries:
         for h in headers[1:]:
             n = split_name_unit(h)[0]
             if n not in headers_of:
@@ -240,30 +367,86 @@ def plot_monitor(name, entries, references, hlines, output_dir, dpi):
     time_header = entries[0][1][0]
     fig, axes = plt.subplots(len(names), 1, sharex=True, squeeze=False,
                              figsize=(8.0, min(2.6 * len(names) + 0.8, 40.0)))
+    panels = []
     for ax, column in zip(axes[:, 0], names):
-        for k, (label, headers, columns) in enumerate(entries):
+        series = []
+        for k, (label, headers, columns, summary) in enumerate(entries):
             i = column_index(headers, column)
             if i is not None:
+                text = run_label(label, summary, name, column, error_labels)
                 # the first source on top (FEM before a noisier SPH), the others a little lighter
                 ax.plot(columns[0], columns[i], "-", lw=1.4 if k == 0 else 1.0, alpha=1.0 if k == 0 else 0.75,
-                        zorder=2 + len(entries) - k, label=label)
-        for monitor, ref_column, label, x, y in references:
-            if monitor == name and ref_column == column:
-                ax.plot(x, y, "o", ms=4.5, mfc="none", mec="k", label=label)
+                        zorder=2 + len(entries) - k, label=text)
+                series.append({"label": text, "kind": "result", "source": label,
+                               "points": len(columns[i])})
+        for r in references:
+            if r.monitor == name and r.column == column:
+                ax.plot(r.x, r.y, "o", ms=4.5, mfc="none", mec="k", label=r.label)
+                series.append({"label": r.label, "kind": "reference table", "file": r.path,
+                               "points": len(r.x)})
         for monitor, line_column, value, label in hlines:
             if monitor == name and hline_matches(line_column, column, headers_of[column]):
                 ax.axhline(value, ls="--", lw=1.2, color="k", alpha=0.75, label=label)
+                series.append({"label": label, "kind": "reference value", "value": value})
         ax.set_ylabel(headers_of[column])
         ax.grid(True, alpha=0.3)
-        if len(ax.get_legend_handles_labels()[0]) > 1:
+        if len(ax.get_legend_handles_labels()[0]) > 1 or any(s["label"] != s.get("source") for s in series):
             ax.legend(fontsize="small")
+        panels.append({"x": time_header, "y": headers_of[column], "series": series})
     axes[-1, 0].set_xlabel(time_header)
     axes[0, 0].set_title(name)
     fig.tight_layout()
-    safe = "".join(c if c.isalnum() or c in "-_." else "_" for c in name)
-    path = os.path.join(output_dir, safe + ".png")
+    path = os.path.join(output_dir, safe_name(name) + ".png")
     fig.savefig(path, dpi=dpi)
     plt.close(fig)
+    write_description(path, {"figure": os.path.basename(path), "monitor": name, "panels": panels})
+    return path
+
+
+def plot_in_reference_axes(r, entries, error_labels, time_shifts, output_dir, dpi):
+    """The runs' COLUMN of r's monitor mapped into the reference's own axes (time / x_scale
+    and value / y_scale: Z against T for the dam-break front) beside the reference points.
+    Returns the PNG path, or None if no run wrote that column."""
+    fig, ax = plt.subplots(figsize=(7.0, 4.6))
+    series = []
+    for k, (label, headers, columns, summary) in enumerate(entries):
+        i = column_index(headers, r.column)
+        if i is None:
+            continue
+        text = run_label(label, summary, r.monitor, r.column, error_labels)
+        line, = ax.plot([t / r.x_scale for t in columns[0]], [v / r.y_scale for v in columns[i]],
+                        "-", lw=1.4 if k == 0 else 1.0, label=text)
+        series.append({"label": text, "kind": "result", "source": label, "points": len(columns[i])})
+        for monitor, column, key in time_shifts:
+            tau = summary.get("monitors", {}).get(key)
+            if monitor == r.monitor and column == r.column and isinstance(tau, (int, float)) and tau:
+                shifted = f"{label}, delayed by {tau:.3g} s ({key})"
+                ax.plot([(t + tau) / r.x_scale for t in columns[0]],
+                        [v / r.y_scale for v in columns[i]], "--", lw=1.0,
+                        color=line.get_color(), label=shifted)
+                series.append({"label": shifted, "kind": "result, time-shifted", "source": label,
+                               "shift": tau, "points": len(columns[i])})
+    if not series:
+        plt.close(fig)
+        return None
+    ax.plot(r.x_own, r.y_own, "o", ms=5, mfc="none", mec="k", label=r.label)
+    series.append({"label": r.label, "kind": "reference table", "file": r.path,
+                   "points": len(r.x_own)})
+    # the window of the reference, with a margin: the comparison's range
+    xs = [v for v in r.x_own]
+    ax.set_xlim(0.0 if min(xs) >= 0 else min(xs), 1.1 * max(xs))
+    ax.set_xlabel(r.x_label)
+    ax.set_ylabel(r.y_label)
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize="small")
+    ax.set_title(f"{r.monitor}: {split_name_unit(r.column)[0]} in the axes of {r.label}")
+    fig.tight_layout()
+    path = os.path.join(output_dir, safe_name(f"{r.monitor}_{split_name_unit(r.y_name)[0]}_vs_"
+                                              f"{split_name_unit(r.x_name)[0]}") + ".png")
+    fig.savefig(path, dpi=dpi)
+    plt.close(fig)
+    write_description(path, {"figure": os.path.basename(path), "monitor": r.monitor, "panels": [
+        {"x": r.x_label, "y": r.y_label, "series": series}]})
     return path
 
 
@@ -291,27 +474,34 @@ def main(argv=None):
         return 0
 
     by_monitor = {}
-    for label, _, monitors in sources:
+    for label, directory, monitors in sources:
+        summary = read_summary(directory)
         for name, (headers, columns) in monitors.items():
-            by_monitor.setdefault(name, []).append((label, headers, columns))
-    for monitor, *_ in references:
-        if monitor not in by_monitor:
-            print(f"plot_monitors: warning: no monitor {monitor!r} for the reference overlay",
+            by_monitor.setdefault(name, []).append((label, headers, columns, summary))
+    for r in references:
+        if r.monitor not in by_monitor:
+            print(f"plot_monitors: warning: no monitor {r.monitor!r} for the reference overlay",
                   file=sys.stderr)
     for monitor, column, _, _ in args.hlines:
         if monitor not in by_monitor:
             print(f"plot_monitors: warning: no monitor {monitor!r} for --hline "
                   f"{monitor}:{column}", file=sys.stderr)
             continue
-        headers = list(dict.fromkeys(h for _, hs, _ in by_monitor[monitor] for h in hs[1:]))
+        headers = list(dict.fromkeys(h for _, hs, _, _ in by_monitor[monitor] for h in hs[1:]))
         if not any(hline_matches(column, split_name_unit(h)[0], h) for h in headers):
             print(f"plot_monitors: warning: monitor {monitor!r} has no column {column!r} for "
                   f"--hline (columns: {', '.join(headers)})", file=sys.stderr)
 
     os.makedirs(output_dir, exist_ok=True)
-    written = [plot_monitor(name, by_monitor[name], references, args.hlines, output_dir,
-                            args.dpi)
+    written = [plot_monitor(name, by_monitor[name], references, args.hlines, args.error_labels,
+                            output_dir, args.dpi)
                for name in sorted(by_monitor)]
+    for r in references:
+        if r.monitor in by_monitor:
+            path = plot_in_reference_axes(r, by_monitor[r.monitor], args.error_labels,
+                                          args.time_shifts, output_dir, args.dpi)
+            if path:
+                written.append(path)
     print(f"plot_monitors: wrote {len(written)} plot(s) to {output_dir}")
     return 0
 

@@ -7,7 +7,9 @@ after every snapshot time, ``<method>/snapshots/<method>_t<time with 3 decimals>
 * SPH (``sph_t0.500.csv``): one row per particle, columns ``x, y[, z], speed, pressure, kind``
   (kind 0 = fluid, 1 = wall marker, 2 = solid marker; units in brackets are allowed);
 * FEM (``fem_t0.500.csv``): the level set's nodal values, columns ``x, y, phi``; water where
-  phi < 0.
+  phi < 0; in 2D beside it ``fem_t0.500_cells.csv``, the active cells (columns ``x0, y0, ...,
+  x3, y3``, corners in order around the cell), drawn as thin edges so that the refinement
+  bands can be seen.
 
 For every time found, ``<out>/snapshot_t<time>.png`` (default ``<run>/plots``) shows the FEM
 water region (filled contour of phi < 0 over the scattered nodes, interface phi = 0 drawn) on
@@ -38,6 +40,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import matplotlib.tri as mtri  # noqa: E402
+from matplotlib.collections import PolyCollection  # noqa: E402
 import numpy as np  # noqa: E402
 
 KIND_NAMES = {0: "fluid", 1: "wall", 2: "solid"}
@@ -114,7 +117,15 @@ def read_fem(path):
     xy = np.round(np.column_stack([t["x"], t["y"]]), 12)
     _, first = np.unique(xy, axis=0, return_index=True)
     first.sort()
-    return {"x": t["x"][first], "y": t["y"][first], "phi": t["phi"][first]}
+    fem = {"x": t["x"][first], "y": t["y"][first], "phi": t["phi"][first], "cells": None}
+    cells_path = path[:-4] + "_cells.csv"
+    if os.path.isfile(cells_path):
+        c = read_table(cells_path)
+        corners = [f"{a}{k}" for k in range(4) for a in "xy"]
+        require_columns(cells_path, c, corners)
+        fem["cells"] = np.stack([np.column_stack([c[f"x{k}"], c[f"y{k}"]]) for k in range(4)], axis=1)
+        fem["cells_path"] = cells_path
+    return fem
 
 
 def find_snapshots(run):
@@ -143,7 +154,13 @@ def common_limits(data):
 def draw_fem(ax, fem):
     """Water (phi < 0) filled, interface phi = 0 drawn; returns the JSON entry."""
     entry = {"method": "fem", "nodes": int(len(fem["phi"])), "water_nodes": int(np.sum(fem["phi"] < 0)),
-             "filled": False, "interface": False}
+             "filled": False, "interface": False, "cells": 0}
+    if fem.get("cells") is not None and len(fem["cells"]):
+        # the mesh under the water: thin edges, so that the refinement bands show
+        ax.add_collection(PolyCollection(fem["cells"], facecolors="none", edgecolors="0.6",
+                                         linewidths=0.25, zorder=3))
+        entry["cells"] = int(len(fem["cells"]))
+        entry["cells_file"] = fem["cells_path"]
     if len(fem["phi"]) >= 3:
         tri = mtri.Triangulation(fem["x"], fem["y"])
         lo, hi = float(fem["phi"].min()), float(fem["phi"].max())
@@ -153,7 +170,8 @@ def draw_fem(ax, fem):
         if lo < 0 < hi:
             ax.tricontour(tri, fem["phi"], levels=[0.0], colors=[INTERFACE_COLOUR], linewidths=1.5)
             entry["interface"] = True
-    ax.set_title(f"FEM: level set, water where phi < 0 ({entry['nodes']} nodes)", fontsize=10)
+    mesh = f", {entry['cells']} cells drawn" if entry["cells"] else ""
+    ax.set_title(f"FEM: level set, water where phi < 0 ({entry['nodes']} nodes{mesh})", fontsize=10)
     return entry
 
 

@@ -420,13 +420,39 @@ def size_of(r):
     return None
 
 
+def write_report(out, study, pngs):
+    """DIR/report.md: the study table (study.md), its error-against-time plots inline, and a
+    link to each case's own report. Every link is relative to DIR and names an existing file."""
+    with open(os.path.join(out, "study.md"), encoding="utf-8") as f:
+        table = f.read()
+    lines = [f"# Study of {os.path.basename(study['scene'])}: what accuracy costs in time", "",
+             "Written " + time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()) + ". The table is also in "
+             "[study.md](study.md) and [study.csv](study.csv).", "", table.rstrip(), ""]
+    if pngs:
+        lines += ["## Error against wall time and size", ""]
+        for p in pngs:
+            name = os.path.basename(p)
+            lines += [f"![{os.path.splitext(name)[0]}]({name})", ""]
+    cases = []
+    for case in study.get("cases", []):
+        folder = case.get("folder") or ""
+        if folder and os.path.isfile(os.path.join(out, folder, "report.md")):
+            cases.append(f"- case {case.get('k', '')}: [{folder}/report.md]({folder}/report.md)")
+    if cases:
+        lines += ["## The cases' reports", ""] + cases + [""]
+    with open(os.path.join(out, "report.md"), "w", encoding="utf-8") as f:
+        f.write("\n".join(lines).rstrip() + "\n")
+
+
 def write_results(study, out, with_plots):
     with open(os.path.join(out, "study.json"), "w") as f:
         json.dump(study, f, indent=1)
     rows, monitors, quantities, tolerances = collect(study, out)
     write_csv(os.path.join(out, "study.csv"), columns(study, monitors, quantities), rows)
     write_markdown(os.path.join(out, "study.md"), study, rows, quantities)
-    return plot(study, rows, quantities, tolerances, out) if with_plots else [], rows, quantities
+    pngs = plot(study, rows, quantities, tolerances, out) if with_plots else []
+    write_report(out, study, pngs)
+    return pngs, rows, quantities
 
 
 # --------------------------------------------------------------------------- main

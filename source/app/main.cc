@@ -12,6 +12,7 @@
 #include <deal.II/base/parameter_handler.h>
 
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <iostream>
 #include <map>
@@ -230,11 +231,40 @@ one folder per case, a table and error-against-cost plots): scripts/study.py --h
         return;
       std::ostringstream spec;
       spec.precision(12);
-      spec << "forces:" << column << '=' << *value << ":reference";
+      spec << "forces:" << column << '=' << *value << ":reference " << column << " = " << *value;
       arguments.insert(arguments.end(), {"--hline", spec.str()});
     };
+    // the measured error beside each run's label (from its summary.json)
+    const auto error_label = [&](const char *target, const char *quantity)
+    { arguments.insert(arguments.end(), {"--error-label", std::string(target) + '=' + quantity}); };
     hline("C_d", scene.reference_drag);
     hline("C_l", scene.reference_lift);
+    if (scene.reference_drag)
+      error_label("forces:C_d", "drag coefficient C_d");
+    if (scene.reference_lift)
+      error_label("forces:C_l", "lift coefficient C_l");
+    // the front table as points on x_front(t), and a figure in its own axes Z(T)
+    if (!scene.reference_front_file.empty())
+    {
+      const double a = scene.reference_length;
+      const double g = std::sqrt(scene.gravity[0] * scene.gravity[0] + scene.gravity[1] * scene.gravity[1] +
+                                 scene.gravity[2] * scene.gravity[2]);
+      const auto number = [](const double v)
+      {
+        std::ostringstream out;
+        out.precision(12);
+        out << v;
+        return out.str();
+      };
+      arguments.insert(arguments.end(),
+                       {"--reference", scene.reference_front_file, "--ref-x", "T", "--ref-y", "Z", "--monitor",
+                        "front", "--column", "x_front", "--ref-x-scale", number(1 / std::sqrt(2 * g / a)),
+                        "--ref-y-scale", number(a), "--ref-x-label", "T = t sqrt(2 g / a)", "--ref-y-label",
+                        "Z = x_front / a   (a = " + number(a) + " m)"});
+      error_label("front:x_front", "front position x_f(t)");
+      if (scene.reference_front_time_uncertainty > 0)
+        arguments.insert(arguments.end(), {"--time-shift", "front:x_front=front fitted time origin delay [s]"});
+    }
     // one rigid body under gravity along y: its weight on the fluid-force subplot (what the
     // vertical force of a floating body settles to)
     std::vector<const twinflow::Solid *> rigid;
@@ -250,12 +280,13 @@ one folder per case, a table and error-against-cost plots): scripts/study.py --h
       spec.precision(12);
       spec << "body:Fy=" << m * g * (scene.gravity[1] < 0 ? 1 : -1) << ":weight m g (floating equilibrium)";
       arguments.insert(arguments.end(), {"--hline", spec.str()});
+      error_label("body:Fy", "vertical fluid force against the weight");
     }
     return arguments;
   }
 
   int run(const std::string &file, const std::vector<Override> &overrides, const std::string &output_override,
-          const bool check_only)
+          const bool check_only, const std::string &command_line)
   {
     using namespace twinflow;
     dealii::ParameterHandler prm;
@@ -303,29 +334,30 @@ one folder per case, a table and error-against-cost plots): scripts/study.py --h
         std::cout << "twinflow: input ok (--check: nothing run)" << std::endl;
       return 0;
     }
-    const std::string dir = scene.output_directory + "/fem";
-    // Plots are optional: a missing python or matplotlib gives a warning, never an error.
-    const auto snapshot_plots = [&] {
+    // The plot step, after the methods: monitor plots and snapshots in <output>/plots, and
+    // <output>/report.md. Optional: a missing python or matplotlib gives a warning, never an
+    // error.
+    std::vector<std::string> method_dirs;
+    const auto plot_step = [&] {
+      auto arguments = plot_arguments(scene);
+      arguments.insert(arguments.end(), {"--output-dir", scene.output_directory + "/plots"});
+      io::make_monitor_plots(method_dirs, arguments);
       if (!scene.snapshot_times.empty())
         io::make_snapshot_plots(scene.output_directory);
+      io::make_report(scene.output_directory, file, command_line);
     };
     if (scene.wants(Method::sph))
     {
-      const std::string sph_dir = scene.output_directory + "/sph";
-      sph::run_sph_scene(scene, sph_prm, sph_dir);
-      if (!scene.wants(Method::fem))
-      {
-        io::make_monitor_plots({sph_dir}, plot_arguments(scene));
-        snapshot_plots();
-        return 0;
-      }
+      method_dirs.push_back(scene.output_directory + "/sph");
+      sph::run_sph_scene(scene, sph_prm, method_dirs.back());
     }
-    fem::run_fem_scene(scene, fem_prm, dir);
-    if (scene.wants(Method::sph))
-      io::make_monitor_plots({dir, scene.output_directory + "/sph"}, plot_arguments(scene));
-    else
-      io::make_monitor_plots({dir}, plot_arguments(scene));
-    snapshot_plots();
+    if (scene.wants(Method::fem))
+    {
+      // FEM first in the plots' legends
+      method_dirs.insert(method_dirs.begin(), scene.output_directory + "/fem");
+      fem::run_fem_scene(scene, fem_prm, method_dirs.front());
+    }
+    plot_step();
     return 0;
   }
 } // namespace
@@ -389,7 +421,10 @@ int main(int argc, char **argv)
     std::vector<Override> overrides;
     for (const auto &text : sets)
       overrides.push_back(parse_override(text));
-    return run(file, overrides, output, check_only);
+    std::string command_line = "twinflow";
+    for (const auto &a : args)
+      command_line += " " + twinflow::io::shell_quote(a);
+    return run(file, overrides, output, check_only, command_line);
   }
   catch (const twinflow::InputError &e)
   {

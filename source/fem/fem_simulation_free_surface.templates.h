@@ -198,7 +198,17 @@ namespace twinflow::fem
         local.push_back(x[d]);
       local.push_back(ncls->value()[i]);
     }
-    const auto parts = Utilities::MPI::gather(comm, local, 0);
+    // 2D: the active cells as quadrilaterals (vertices 0, 1, 3, 2: around the cell), so that the
+    // snapshot shows the mesh and its refinement bands
+    std::vector<double> local_cells;
+    if (dim == 2)
+      for (const auto &cell : tria.active_cell_iterators())
+        if (cell->is_locally_owned())
+          for (const unsigned int v : {0u, 1u, 3u, 2u})
+            for (unsigned int d = 0; d < dim; ++d)
+              local_cells.push_back(cell->vertex(v)[d]);
+    const auto parts      = Utilities::MPI::gather(comm, local, 0);
+    const auto cell_parts = Utilities::MPI::gather(comm, local_cells, 0);
     if (!io::is_root_process(comm))
       return;
     io::ensure_directory(dir + "/snapshots");
@@ -216,5 +226,19 @@ namespace twinflow::fem
       }
     if (!out)
       throw std::runtime_error("cannot write the snapshot " + file);
+    if (dim == 2)
+    {
+      const std::string cells_file = file.substr(0, file.size() - 4) + "_cells.csv";
+      std::ofstream     cells(cells_file);
+      cells << "# twinflow FEM snapshot: the active cells (corners in order around each cell) at t = "
+            << navier_stokes->time() << " s\n";
+      cells << "x0 [m],y0 [m],x1 [m],y1 [m],x2 [m],y2 [m],x3 [m],y3 [m]\n" << std::setprecision(9);
+      for (const auto &part : cell_parts)
+        for (std::size_t k = 0; k + 8 <= part.size(); k += 8)
+          for (unsigned int j = 0; j < 8; ++j)
+            cells << part[k + j] << (j == 7 ? '\n' : ',');
+      if (!cells)
+        throw std::runtime_error("cannot write the snapshot " + cells_file);
+    }
   }
 } // namespace twinflow::fem

@@ -118,6 +118,15 @@ namespace twinflow::io
   }
 
   bool
+  make_report(const std::string &run_dir,
+              const std::string &scene_file,
+              const std::string &command_line,
+              MPI_Comm           comm)
+  {
+    return run_plot_script("report.py", {run_dir, "--scene", scene_file, "--command", command_line}, comm);
+  }
+
+  bool
   make_plots(const std::string &output_dir, MPI_Comm comm)
   {
     return make_monitor_plots(std::vector<std::string>{output_dir}, {}, comm);

@@ -471,6 +471,12 @@ namespace twinflow::sph
         summary.set_extra("rigid-body RK4 sub-steps", double(coupling->substeps_taken()));
       }
       summary.set_monitor_values(result.monitors);
+      {
+        std::string physics;
+        for (const auto &p : result.active_physics)
+          physics += (physics.empty() ? "" : "; ") + p;
+        summary.set_extra("active physics", physics);
+      }
       summary.set_extra("fluid particles", result.fluid_particles);
       summary.set_extra("BCE markers", result.markers);
       if (open.active())

@@ -21,6 +21,8 @@ import subprocess
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+import report_links  # noqa: E402
 ROOT = os.path.dirname(os.path.dirname(HERE))
 PY = sys.executable
 STUDY = os.path.join(ROOT, "scripts", "study.py")
@@ -99,6 +101,13 @@ def main():
     with open(os.path.join(out, "study.md")) as f:
         md = f.read()
     check(md.count("\n| ") == 3 and "`FEM/Global refinements`" in md, "study.md: header + 2 rows")
+    report = os.path.join(out, "report.md")
+    if check(os.path.isfile(report), "report.md written"):
+        targets = report_links.links(report)
+        check(not report_links.broken_links(report), f"report.md: every link names a file ({targets})")
+        check(all(p in targets for p in pngs) and "study.csv" in targets,
+              "report.md shows every error-against-time plot and links study.csv")
+        check(sum(t.endswith("/report.md") for t in targets) == 2, "report.md links the 2 cases' reports")
     proc = subprocess.run([PY, os.path.join(HERE, "check_study.py"), os.path.join(out, "study.csv")],
                           capture_output=True, text=True)
     check(proc.returncode == 0, "check_study.py accepts the table:\n" + proc.stdout)

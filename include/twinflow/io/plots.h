@@ -50,6 +50,19 @@ namespace twinflow::io
   bool
   make_snapshot_plots(const std::string &run_dir, MPI_Comm comm = MPI_COMM_WORLD);
 
+  /**
+   * Write `<run_dir>/report.md` with `scripts/report.py`: the scene (@p scene_file, the
+   * @p command_line that ran it), the active physics, the cost and accuracy tables and the
+   * per-section times of every method's summary.json, and the plots and snapshots of
+   * `<run_dir>/plots` inline. Rank 0 of @p comm only; false (after a warning) if it could not
+   * be written.
+   */
+  bool
+  make_report(const std::string &run_dir,
+              const std::string &scene_file,
+              const std::string &command_line,
+              MPI_Comm           comm = MPI_COMM_WORLD);
+
   /// Path of plot_monitors.py, or "" if it cannot be found.
   std::string
   plot_script_path();
