@@ -37,6 +37,7 @@ Writes into DIR:
                     'error <quantity>' (relative) per reference quantity, within tolerance,
                     status, message
   study.md          the same as a markdown table (for doc/)
+  report.md         the study's page: that table, the plots inline, links to each case's report.md
   study_<quantity>.png  per error quantity: error against wall time and against size
                     (DoFs for FEM, particles for SPH), log-log, one line per method and per
                     value of the other varied entries, the tolerance as a dashed line
