@@ -228,22 +228,21 @@ def parse_arguments(argv):
             p.error(f"--hline {spec!r}: {error}; expected {HLINE_FORM}, "
                     "e.g. --hline 'forces:C_d=5.58:body-fitted reference'")
 
-    args.error_labels = []
-    for spec in args.error_label:
-        target, equals, quantity = spec.partition("=")
-        monitor, colon, column = target.partition(":")
-        if not (equals and colon and monitor.strip() and column.strip() and quantity.strip()):
-            p.error(f"--error-label {spec!r}: expected MONITOR:COLUMN=QUANTITY, e.g. "
-                    "--error-label 'front:x_front=front position x_f(t)'")
-        args.error_labels.append((monitor.strip(), column.strip(), quantity.strip()))
-    args.time_shifts = []
-    for spec in args.time_shift:
-        target, equals, key = spec.partition("=")
-        monitor, colon, column = target.partition(":")
-        if not (equals and colon and monitor.strip() and column.strip() and key.strip()):
-            p.error(f"--time-shift {spec!r}: expected MONITOR:COLUMN=KEY, e.g. "
-                    "--time-shift 'front:x_front=front fitted time origin delay [s]'")
-        args.time_shifts.append((monitor.strip(), column.strip(), key.strip()))
+    def targets(option, specs, value_name, example):
+        """[(monitor, column, value)] of MONITOR:COLUMN=VALUE options."""
+        parsed = []
+        for spec in specs:
+            target, equals, value = spec.partition("=")
+            monitor, colon, column = target.partition(":")
+            if not (equals and colon and monitor.strip() and column.strip() and value.strip()):
+                p.error(f"{option} {spec!r}: expected MONITOR:COLUMN={value_name}, e.g. {option} '{example}'")
+            parsed.append((monitor.strip(), column.strip(), value.strip()))
+        return parsed
+
+    args.error_labels = targets("--error-label", args.error_label, "QUANTITY",
+                                "front:x_front=front position x_f(t)")
+    args.time_shifts = targets("--time-shift", args.time_shift, "KEY",
+                               "front:x_front=front fitted time origin delay [s]")
 
     n = len(args.reference)
     for option in ("ref_x", "ref_y", "monitor", "column"):

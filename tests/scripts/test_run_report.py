@@ -24,24 +24,13 @@ import json
 import math
 import os
 import shutil
-import struct
 import subprocess
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, HERE)
-import report_links  # noqa: E402
-
-failures = []
-
-
-def check(condition, what):
-    print(f"{'ok  ' if condition else 'FAIL'} {what}")
-    if not condition:
-        failures.append(what)
-    return condition
-
+from testlib import broken_links, check, failures, links, png_size  # noqa: E402
 
 def run(cmd):
     proc = subprocess.run(cmd, capture_output=True, text=True)
@@ -53,14 +42,6 @@ def run(cmd):
 def load(path):
     with open(path, encoding="utf-8") as f:
         return json.load(f)
-
-
-def png_size(path):
-    with open(path, "rb") as f:
-        head = f.read(24)
-    if head[:8] != b"\x89PNG\r\n\x1a\n":
-        return None
-    return struct.unpack(">II", head[16:24])
 
 
 def panel(description, column):
@@ -136,9 +117,9 @@ def dam_break(twinflow, work, scene):
     report = os.path.join(out, "report.md")
     if not check(os.path.isfile(report), "report.md written"):
         return
-    targets = report_links.links(report)
-    check(not report_links.broken_links(report), f"report.md: every link names a file "
-          f"(broken: {report_links.broken_links(report)})")
+    targets = links(report)
+    check(not broken_links(report), f"report.md: every link names a file "
+          f"(broken: {broken_links(report)})")
     pngs = sorted("plots/" + f for f in os.listdir(plots) if f.endswith(".png"))
     check(all(p in targets for p in pngs), f"report.md shows every PNG ({pngs})")
     with open(report, encoding="utf-8") as f:

@@ -22,22 +22,12 @@ import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-import report_links  # noqa: E402
+from testlib import broken_links, check, failures, links  # noqa: E402
 ROOT = os.path.dirname(os.path.dirname(HERE))
 PY = sys.executable
 STUDY = os.path.join(ROOT, "scripts", "study.py")
 SCENE = os.path.join(ROOT, "parameters", "dfg_2d1.prm")
 SHORT = ["--set", "Scene/End time=0.2", "--set", "FEM/Time step=0.05"]
-
-failures = []
-
-
-def check(condition, what):
-    print(f"{'ok  ' if condition else 'FAIL'} {what}")
-    if not condition:
-        failures.append(what)
-    return condition
-
 
 def run(args):
     proc = subprocess.run([PY, STUDY] + args, capture_output=True, text=True)
@@ -103,8 +93,8 @@ def main():
     check(md.count("\n| ") == 3 and "`FEM/Global refinements`" in md, "study.md: header + 2 rows")
     report = os.path.join(out, "report.md")
     if check(os.path.isfile(report), "report.md written"):
-        targets = report_links.links(report)
-        check(not report_links.broken_links(report), f"report.md: every link names a file ({targets})")
+        targets = links(report)
+        check(not broken_links(report), f"report.md: every link names a file ({targets})")
         check(all(p in targets for p in pngs) and "study.csv" in targets,
               "report.md shows every error-against-time plot and links study.csv")
         check(sum(t.endswith("/report.md") for t in targets) == 2, "report.md links the 2 cases' reports")
