@@ -174,7 +174,7 @@ namespace twinflow::fem
     worst_energy_rise  = std::max(worst_energy_rise, rise);
     energy_csv->append({t, m.kinetic_water, m.potential_water, e_water, e_all, divergence, dt,
                         double(tria.n_global_active_cells())});
-    front_csv->append({t, m.x_front, navier_stokes->max_velocity(), m.x_foremost});
+    front_csv->append({t, m.x_front, m.max_water_speed, m.x_foremost, navier_stokes->max_velocity()});
     volume_csv->append({t, m.water_volume, drift, correction->last_correction(),
                         double(correction->last_newton_iterations())});
     front_time.push_back(t);

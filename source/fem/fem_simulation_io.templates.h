@@ -68,7 +68,9 @@ namespace twinflow::fem
                         {"time", "kinetic energy", "potential energy", "total energy", "system energy", "divergence L2",
                          "dt", "cells"},
                         {"s", "J", "J", "J", "J", "1/s", "s", "-"}, "energy");
-      front_csv  = open("front.csv", {"time", "x_front", "max speed", "x_foremost"}, {"s", "m", "m/s", "m"}, "front");
+      // max speed: in the water, as SPH's (no air there); max speed all phases: what the CFL sees
+      front_csv  = open("front.csv", {"time", "x_front", "max speed", "x_foremost", "max speed all phases"},
+                        {"s", "m", "m/s", "m", "m/s"}, "front");
       volume_csv = open("volume.csv", {"time", "water volume", "relative drift", "max correction", "newton iterations"},
                         {"s", "m^dim", "-", "m", "-"}, "volume");
     }

@@ -436,6 +436,8 @@ namespace twinflow::fem
           m.potential_all += rho * ep;
           m.kinetic_water += w * ek;
           m.potential_water += w * ep;
+          if (phi_q[q] < 0)
+            m.max_water_speed = std::max(m.max_water_speed, u[q].norm());
         }
         // Fronts: along every cell edge, the largest x with φ < 0 (linear between vertices).
         for (unsigned int l = 0; l < GeometryInfo<dim>::lines_per_cell; ++l)
@@ -464,6 +466,7 @@ namespace twinflow::fem
     m.potential_water = Utilities::MPI::sum(m.potential_water, comm);
     m.x_front         = Utilities::MPI::max(front, comm);
     m.x_foremost      = Utilities::MPI::max(foremost, comm);
+    m.max_water_speed = Utilities::MPI::max(m.max_water_speed, comm);
     return m;
   }
 

@@ -329,6 +329,9 @@ namespace twinflow::fem
     double x_foremost   = 0;  ///< furthest point with φ < 0 anywhere along x
     double kinetic_water = 0, potential_water = 0; ///< ½∫ρ_w(1−H)|u|², −∫ρ_w(1−H) g·x
     double kinetic_all = 0, potential_all = 0;     ///< the same over both phases
+    /// largest |u| at the velocity quadrature points in the water (φ < 0): what SPH's
+    /// "max speed" measures (it has no air); the CFL step uses the largest over both phases
+    double max_water_speed = 0;
   };
 
   template <int dim>
