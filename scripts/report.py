@@ -54,6 +54,8 @@ def number(v, digits=4):
     if isinstance(v, float):
         if v == 0:
             return "0"
+        if 1e3 <= abs(v) < 1e9:
+            return f"{v:,.0f}"
         return f"{v:.{digits}g}"
     return str(v)
 
