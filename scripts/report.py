@@ -18,8 +18,10 @@ holds, in this order:
     snapshots (plots/snapshot_t<time>.png) inline, each with what its JSON says it shows;
   - the final monitor values and the files of the run, linked.
 
-Every link is relative to RUN_DIR and names a file that exists when the report is written.
-Needs only the Python standard library. Exit status 1 when RUN_DIR has no summary.json.
+A run that stopped with an error (--stopped MESSAGE) gets the message first and what it wrote
+up to the stop. Every link is relative to RUN_DIR and names a file that exists when the report
+is written. Needs only the Python standard library. Exit status 1 when RUN_DIR has no
+summary.json and the run did not stop (nothing to report).
 """
 import argparse
 import datetime
@@ -167,10 +169,12 @@ def plot_section(run_dir):
     return monitors, snapshots
 
 
-def files_section(run_dir, summaries):
+def files_section(run_dir):
     rows = []
-    for method, _ in summaries:
+    for method in METHOD_ORDER:
         folder = os.path.join(run_dir, method)
+        if not os.path.isdir(folder):
+            continue
         for f in sorted(os.listdir(folder)):
             path = os.path.join(folder, f)
             if not os.path.isfile(path):
@@ -180,21 +184,26 @@ def files_section(run_dir, summaries):
     return rows
 
 
-def write_report(run_dir, scene, command):
+def write_report(run_dir, scene, command, stopped=""):
     summaries = load_summaries(run_dir)
-    if not summaries:
+    if not summaries and not stopped:
         raise FileNotFoundError(f"no <method>/summary.json in {run_dir}")
-    first = summaries[0][1]
+    first = summaries[0][1] if summaries else {}
     name = first.get("scene", os.path.basename(os.path.normpath(run_dir)))
     lines = [f"# {name}: twinflow run report", ""]
-    facts = [f"- **Methods:** {', '.join(METHOD_NAMES.get(m, m) for m, _ in summaries)}",
-             f"- **Dimension:** {first.get('dimension', '?')}D"]
+    if stopped:
+        lines += ["> **The run stopped with an error:** " + " ".join(stopped.split()), ">",
+                  "> Below is what it wrote up to the stop: the monitors' plots and the summaries of "
+                  "the methods that finished.", ""]
+    facts = [f"- **Methods:** {', '.join(METHOD_NAMES.get(m, m) for m, _ in summaries) or 'none finished'}"]
+    if "dimension" in first:
+        facts.append(f"- **Dimension:** {first['dimension']}D")
     if scene:
         facts.insert(0, f"- **Scene file:** `{scene}`")
     if command:
         facts.insert(1 if scene else 0, f"- **Command:** `{command}`")
     facts.append("- **Written:** " + datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"))
-    all_ok = all(s.get("all_within_tolerance", True) for _, s in summaries)
+    all_ok = not stopped and all(s.get("all_within_tolerance", True) for _, s in summaries)
     facts.append("- **Every checked error within its tolerance:** " + ("yes" if all_ok else "**no**"))
     lines += facts + [""]
 
@@ -248,7 +257,7 @@ def write_report(run_dir, scene, command):
             lines += [f"**{METHOD_NAMES.get(method, method)}**", "",
                       table(["monitor", "value"], [[k, number(v, 6)] for k, v in sorted(values.items())])]
 
-    files = files_section(run_dir, summaries)
+    files = files_section(run_dir)
     if files:
         lines += ["## Files", "", "ParaView: open the `.pvd` files. Monitors: the CSV files (one row per "
                   "step). Everything above comes from the `summary.json` files.", ""]
@@ -265,12 +274,13 @@ def main(argv=None):
     p.add_argument("run_dir", help="the run's output directory (Scene/Output directory)")
     p.add_argument("--scene", default="", help="the scene file that was run")
     p.add_argument("--command", default="", help="the command line that ran it")
+    p.add_argument("--stopped", default="", help="the error message of a run that stopped")
     args = p.parse_args(argv)
     if not os.path.isdir(args.run_dir):
         print(f"report: not a directory: {args.run_dir}", file=sys.stderr)
         return 1
     try:
-        path = write_report(args.run_dir, args.scene, args.command)
+        path = write_report(args.run_dir, args.scene, args.command, args.stopped)
     except FileNotFoundError as error:
         print(f"report: {error}", file=sys.stderr)
         return 1

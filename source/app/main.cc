@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <map>
@@ -338,26 +339,49 @@ one folder per case, a table and error-against-cost plots): scripts/study.py --h
     // <output>/report.md. Optional: a missing python or matplotlib gives a warning, never an
     // error.
     std::vector<std::string> method_dirs;
-    const auto plot_step = [&] {
+    const auto plot_step = [&](const std::string &stopped) {
       auto arguments = plot_arguments(scene);
       arguments.insert(arguments.end(), {"--output-dir", scene.output_directory + "/plots"});
       io::make_monitor_plots(method_dirs, arguments);
       if (!scene.snapshot_times.empty())
         io::make_snapshot_plots(scene.output_directory);
-      io::make_report(scene.output_directory, file, command_line);
+      io::make_report(scene.output_directory, file, command_line, MPI_COMM_WORLD, stopped);
     };
-    if (scene.wants(Method::sph))
+    // what the methods write from here on: a stop before any of it (a composition or restart
+    // error) leaves the output directory as it was
+    const auto started   = std::filesystem::file_time_type::clock::now();
+    const auto wrote_any = [&] {
+      std::error_code ec;
+      for (const auto &d : method_dirs)
+        for (const auto &f : std::filesystem::directory_iterator(d, ec))
+          if (f.is_regular_file(ec) && f.last_write_time(ec) >= started)
+            return true;
+      return false;
+    };
+    try
     {
-      method_dirs.push_back(scene.output_directory + "/sph");
-      sph::run_sph_scene(scene, sph_prm, method_dirs.back());
+      if (scene.wants(Method::sph))
+      {
+        method_dirs.push_back(scene.output_directory + "/sph");
+        sph::run_sph_scene(scene, sph_prm, method_dirs.back());
+      }
+      if (scene.wants(Method::fem))
+      {
+        // FEM first in the plots' legends
+        method_dirs.insert(method_dirs.begin(), scene.output_directory + "/fem");
+        fem::run_fem_scene(scene, fem_prm, method_dirs.front());
+      }
     }
-    if (scene.wants(Method::fem))
+    catch (const std::exception &e)
     {
-      // FEM first in the plots' legends
-      method_dirs.insert(method_dirs.begin(), scene.output_directory + "/fem");
-      fem::run_fem_scene(scene, fem_prm, method_dirs.front());
+      // a run that stops (divergence, a body at a wall, ...) still gets its plots and a report
+      // of what it wrote up to the stop; the error itself is reported by main()
+      const auto *deal = dynamic_cast<const dealii::ExceptionBase *>(&e);
+      if (wrote_any())
+        plot_step(deal ? message_of(*deal) : std::string(e.what()));
+      throw;
     }
-    plot_step();
+    plot_step("");
     return 0;
   }
 } // namespace

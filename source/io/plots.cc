@@ -121,9 +121,13 @@ namespace twinflow::io
   make_report(const std::string &run_dir,
               const std::string &scene_file,
               const std::string &command_line,
-              MPI_Comm           comm)
+              MPI_Comm           comm,
+              const std::string &stopped)
   {
-    return run_plot_script("report.py", {run_dir, "--scene", scene_file, "--command", command_line}, comm);
+    std::vector<std::string> arguments{run_dir, "--scene", scene_file, "--command", command_line};
+    if (!stopped.empty())
+      arguments.insert(arguments.end(), {"--stopped", stopped});
+    return run_plot_script("report.py", arguments, comm);
   }
 
   bool

@@ -54,14 +54,16 @@ namespace twinflow::io
    * Write `<run_dir>/report.md` with `scripts/report.py`: the scene (@p scene_file, the
    * @p command_line that ran it), the active physics, the cost and accuracy tables and the
    * per-section times of every method's summary.json, and the plots and snapshots of
-   * `<run_dir>/plots` inline. Rank 0 of @p comm only; false (after a warning) if it could not
-   * be written.
+   * `<run_dir>/plots` inline. A run that stopped with an error passes its message as
+   * @p stopped: the report then says so first and shows what was written up to the stop.
+   * Rank 0 of @p comm only; false (after a warning) if it could not be written.
    */
   bool
   make_report(const std::string &run_dir,
               const std::string &scene_file,
               const std::string &command_line,
-              MPI_Comm           comm = MPI_COMM_WORLD);
+              MPI_Comm           comm    = MPI_COMM_WORLD,
+              const std::string &stopped = "");
 
   /// Path of plot_monitors.py, or "" if it cannot be found.
   std::string
