@@ -3,6 +3,7 @@
 #include <twinflow/core/scene.h>
 #include <twinflow/solids/coupling.h>
 #include <twinflow/fem/fem_simulation.h>
+#include <twinflow/io/front_reference.h>
 #include <twinflow/io/mpi_utils.h>
 #include <twinflow/io/plots.h>
 #include <twinflow/sph/sph_simulation.h>
@@ -247,9 +248,7 @@ one folder per case, a table and error-against-cost plots): scripts/study.py --h
     // the front table as points on x_front(t), and a figure in its own axes Z(T)
     if (!scene.reference_front_file.empty())
     {
-      const double a = scene.reference_length;
-      const double g = std::sqrt(scene.gravity[0] * scene.gravity[0] + scene.gravity[1] * scene.gravity[1] +
-                                 scene.gravity[2] * scene.gravity[2]);
+      const twinflow::io::FrontScale scale = twinflow::io::front_scale(scene);
       const auto number = [](const double v)
       {
         std::ostringstream out;
@@ -259,9 +258,9 @@ one folder per case, a table and error-against-cost plots): scripts/study.py --h
       };
       arguments.insert(arguments.end(),
                        {"--reference", scene.reference_front_file, "--ref-x", "T", "--ref-y", "Z", "--monitor",
-                        "front", "--column", "x_front", "--ref-x-scale", number(1 / std::sqrt(2 * g / a)),
-                        "--ref-y-scale", number(a), "--ref-x-label", "T = t sqrt(2 g / a)", "--ref-y-label",
-                        "Z = x_front / a   (a = " + number(a) + " m)"});
+                        "front", "--column", "x_front", "--ref-x-scale", number(scale.time),
+                        "--ref-y-scale", number(scale.length), "--ref-x-label", "T = t sqrt(2 g / a)",
+                        "--ref-y-label", "Z = x_front / a   (a = " + number(scale.length) + " m)"});
       error_label("front:x_front", "front position x_f(t)");
       if (scene.reference_front_time_uncertainty > 0)
         arguments.insert(arguments.end(), {"--time-shift", "front:x_front=front fitted time origin delay [s]"});

@@ -1,6 +1,7 @@
 #include <twinflow/core/errors.h>
 #include <twinflow/core/scene.h>
 #include <twinflow/io/csv_table.h>
+#include <twinflow/io/reference_data.h>
 #include <twinflow/solids/rigid_body.h>
 
 #include <deal.II/base/parameter_handler.h>
@@ -459,26 +460,26 @@ namespace twinflow
       std::ifstream probe(s.reference_front_file);
       require(bool(probe), "References/Front position file", front_file,
               "an existing CSV file (looked for " + s.reference_front_file + ")");
-      // read it now, so that a malformed table stops the run before it starts
+      // read it now, so that a malformed table stops the run before it starts; the table's
+      // own checks (rows, sorted distinct T) are those of the comparison (io::ReferenceSeries)
       const std::string allowed = "a CSV table with a header line naming columns T and Z, then rows of as many "
                                   "numbers as the header has columns, at least two rows, distinct T";
-      io::CsvTable table;
+      std::string problem;
       try
       {
-        table = io::read_csv(s.reference_front_file);
+        const io::CsvTable table = io::read_csv(s.reference_front_file);
+        if (!table.has_column("T") || !table.has_column("Z"))
+          problem = s.reference_front_file + " has no column T or Z";
+        else if (table.n_rows() < 2)
+          problem = s.reference_front_file + " has " + std::to_string(table.n_rows()) + " rows";
+        else
+          io::ReferenceSeries(table.column("T"), table.column("Z"), s.reference_front_file);
       }
       catch (const std::exception &e)
       {
-        require(false, "References/Front position file", front_file, allowed + " (" + e.what() + ")");
+        problem = e.what();
       }
-      require(table.has_column("T") && table.has_column("Z"), "References/Front position file", front_file,
-              allowed + " (" + s.reference_front_file + " has no column T or Z)");
-      require(table.n_rows() >= 2, "References/Front position file", front_file,
-              allowed + " (" + s.reference_front_file + " has " + std::to_string(table.n_rows()) + " rows)");
-      auto T = table.column("T");
-      std::sort(T.begin(), T.end());
-      require(std::adjacent_find(T.begin(), T.end()) == T.end(), "References/Front position file", front_file,
-              allowed + " (" + s.reference_front_file + " repeats a time T)");
+      require(problem.empty(), "References/Front position file", front_file, allowed + " (" + problem + ")");
     }
     s.reference_front_time_uncertainty = prm.get_double("Front time origin uncertainty");
     require(s.reference_front_time_uncertainty == 0 || !s.reference_front_file.empty(),

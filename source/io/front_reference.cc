@@ -40,6 +40,15 @@ namespace twinflow::io
     }
   } // namespace
 
+  FrontScale
+  front_scale(const Scene &scene)
+  {
+    const double a = scene.reference_length;
+    const double g = std::sqrt(scene.gravity[0] * scene.gravity[0] + scene.gravity[1] * scene.gravity[1] +
+                               scene.gravity[2] * scene.gravity[2]);
+    return {1.0 / std::sqrt(2 * g / a), a};
+  }
+
   void
   add_front_reference_errors(const Scene &                   scene,
                              const std::vector<double> &     t,
@@ -49,12 +58,9 @@ namespace twinflow::io
   {
     if (scene.reference_front_file.empty())
       return;
-    // Martin & Moyce scaling: t = T / sqrt(2 g / a), x_f = Z a.
-    const double a = scene.reference_length;
-    const double g = std::sqrt(scene.gravity[0] * scene.gravity[0] + scene.gravity[1] * scene.gravity[1] +
-                               scene.gravity[2] * scene.gravity[2]);
-    const double time_scale = 1.0 / std::sqrt(2 * g / a);
-    const auto   reference  = ReferenceSeries::from_csv(scene.reference_front_file, "T", "Z", time_scale, a);
+    const FrontScale scale      = front_scale(scene);
+    const double     time_scale = scale.time;
+    const auto reference = ReferenceSeries::from_csv(scene.reference_front_file, "T", "Z", time_scale, scale.length);
     const auto   error      = compare_series(t, x_front, reference);
     const double tau_max    = scene.reference_front_time_uncertainty;
     // With a time-origin uncertainty the checked error is the fitted one below and the raw
@@ -65,8 +71,8 @@ namespace twinflow::io
     monitors["front rms relative error"] = error.rms_relative_error;
     // The simulated times delayed by tau (t -> t + tau), on a grid of 0.005 in T. Diagnostic
     // over [-0.5, 0.5] in T; the checked fit only over the admissible [0, tau_max].
-    const double dT         = 0.005 / std::sqrt(2 * g / a);
-    const double T1         = 0.5 / std::sqrt(2 * g / a);
+    const double dT         = 0.005 * time_scale;
+    const double T1         = 0.5 * time_scale;
     const auto   diagnostic = best_shift(t, x_front, reference, error, -T1, T1, dT);
     monitors["front rms relative error, best time shift"] = diagnostic.second.rms_relative_error;
     monitors["front best time shift [s]"]                = diagnostic.first;

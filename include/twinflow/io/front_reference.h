@@ -18,6 +18,17 @@ namespace twinflow
 
 namespace twinflow::io
 {
+  /// Martin & Moyce scaling of the front table: t = time · T and x_f = length · Z, with
+  /// time = 1 / sqrt(2 g / a), length = a (a = Monitors/Reference length, g = |Forces/Gravity|).
+  struct FrontScale
+  {
+    double time   = 1;
+    double length = 1;
+  };
+
+  FrontScale
+  front_scale(const Scene &scene);
+
   /**
    * Compare the simulated front (@p t, @p x_front) with the table of
    * Scene::reference_front_file, scaled as t = T / sqrt(2 g / a), x_f = Z a
