@@ -171,6 +171,10 @@ namespace twinflow::fem
       data_out.add_data_vector(solid, "solid_distance");
     data_out.build_patches(navier_stokes->get_mapping(), prm.navier_stokes.velocity_degree,
                            DataOut<dim>::curved_inner_cells);
+    // zlib's fastest level: the default (best compression) cost ~15 % of a 2D run's wall time
+    DataOutBase::VtkFlags flags;
+    flags.compression_level = DataOutBase::VtkFlags::best_speed;
+    data_out.set_flags(flags);
     const std::string name = data_out.write_vtu_with_pvtu_record(dir + "/", "solution", output_count++, comm, 4);
     pvd->add(navier_stokes->time(), name);
   }

@@ -151,8 +151,18 @@ namespace twinflow::fem
       DoFTools::make_sparsity_pattern(velocity_dofs, dsp, velocity_constraints, false);
       SparsityTools::distribute_sparsity_pattern(dsp, velocity_owned, comm, velocity_relevant);
       velocity_matrix.reinit(velocity_owned, velocity_owned, dsp, comm);
-      if (prm.variable_projection)
-        velocity_mass.reinit(velocity_owned, velocity_owned, dsp, comm);
+    }
+    if (prm.variable_projection)
+    {
+      // the L²(ρ) mass couples no two components: half the entries of the momentum matrix
+      Table<2, DoFTools::Coupling> same_component(dim, dim);
+      for (unsigned int c = 0; c < dim; ++c)
+        for (unsigned int d = 0; d < dim; ++d)
+          same_component[c][d] = c == d ? DoFTools::always : DoFTools::none;
+      DynamicSparsityPattern dsp(velocity_relevant);
+      DoFTools::make_sparsity_pattern(velocity_dofs, same_component, dsp, velocity_constraints, false);
+      SparsityTools::distribute_sparsity_pattern(dsp, velocity_owned, comm, velocity_relevant);
+      velocity_mass.reinit(velocity_owned, velocity_owned, dsp, comm);
     }
     {
       DynamicSparsityPattern dsp(pressure_relevant);
@@ -274,6 +284,8 @@ namespace twinflow::fem
       TimerOutput::Scope scope(timer_output, "pressure projection");
       stats.pressure_iterations = solve_pressure_increment(dt, c);
     }
+    if (prm.variable_projection && !material.is_constant())
+      correct_velocity(dt, c);
     dt_before_last = dt_last;
     dt_last        = dt;
     current_time   = t_new;
@@ -314,12 +326,26 @@ namespace twinflow::fem
     std::vector<unsigned int>            comp(n);
     for (unsigned int i = 0; i < n; ++i)
       comp[i] = fe_velocity.system_to_component_index(i).first;
-    std::vector<double>         s(n), fraction(nq);
-    std::vector<Tensor<1, dim>> ds(n), u_star(nq);
+    // scalar shape functions: base[i] of each vector one, and one vector function per scalar
+    const unsigned int        n_scalar = fe_velocity.base_element(0).n_dofs_per_cell();
+    std::vector<unsigned int> base(n), representative(n_scalar);
+    for (unsigned int i = 0; i < n; ++i)
+    {
+      base[i]                 = fe_velocity.system_to_component_index(i).second;
+      representative[base[i]] = i;
+    }
+    FullMatrix<double>              scalar_block(n_scalar, n_scalar), mass_block(n_scalar, n_scalar), cell_mass(n, n);
+    std::vector<FullMatrix<double>> cross_blocks(symmetric ? dim * dim : 0, FullMatrix<double>(n_scalar, n_scalar));
+    std::vector<double>         s(n_scalar), conv(n_scalar), fraction(nq);
+    std::vector<Tensor<1, dim>> ds(n_scalar), u_star(nq);
     MaterialValues<dim>         mat;
     // Guermond–Salgado: p^# = p^n + 4/3 φ^n − 1/3 φ^{n−1} (BDF2) or p^n + φ^n; the variable-
     // density projection corrects the velocity itself, so the standard incremental p^# = p^n.
     const bool   projected   = prm.variable_projection && !material.is_constant();
+    // the variable-density correction's L²(ρ^{n+1}) mass: the same ρ, assembled here once
+    const bool with_mass = projected;
+    if (with_mass)
+      velocity_mass = 0;
     const double pressure_w1 = projected ? 0. : (prm.scheme == TimeScheme::bdf2) ? 4. / 3. : 1.;
     const double pressure_w2 = projected ? 0. : (prm.scheme == TimeScheme::bdf2) ? -1. / 3. : 0.;
     if (acceleration) acceleration->set_time(t_new);
@@ -358,8 +384,16 @@ namespace twinflow::fem
           term->scale_fluid_fraction(term_cell, fraction);
         }
 
-      cell_matrix = 0;
-      cell_rhs    = 0;
+      // The component-blind part of the matrix is one scalar block S_ab (a, b scalar shape
+      // functions), the same for every velocity component; the symmetric stress adds the
+      // cross-component blocks T^{cd}_ab = Σ_q μ ∂_d φ_a ∂_c φ_b. Accumulated per cell and
+      // scattered once: a quarter of the work of looping over all vector pairs per point.
+      scalar_block = 0;
+      for (auto &t : cross_blocks)
+        t = 0;
+      if (with_mass)
+        mass_block = 0;
+      cell_rhs = 0;
       for (unsigned int q = 0; q < nq; ++q)
       {
         // Inertia, convection, viscosity and body force act on the fluid fraction w; the
@@ -385,46 +419,71 @@ namespace twinflow::fem
         const double sd    = prm.streamline_diffusion > 0 && speed > 0
                                ? prm.streamline_diffusion * rho * h_cell / (2 * speed)
                                : 0.0;
-        for (unsigned int i = 0; i < n; ++i)
+        for (unsigned int a = 0; a < n_scalar; ++a)
         {
-          s[i]  = fev.shape_value(i, q);
-          ds[i] = fev.shape_grad(i, q);
+          s[a]    = fev.shape_value(representative[a], q);
+          ds[a]   = fev.shape_grad(representative[a], q);
+          conv[a] = u_star[q] * ds[a];
         }
-        for (unsigned int i = 0; i < n; ++i)
+        // test a, trial b
+        for (unsigned int a = 0; a < n_scalar; ++a)
         {
-          const unsigned int ci = comp[i];
-          for (unsigned int j = 0; j < n; ++j)
+          const double sa = s[a] * JxW, ca = conv[a] * JxW;
+          const Tensor<1, dim> mu_da = (mu * JxW) * ds[a];
+          for (unsigned int b = 0; b < n_scalar; ++b)
+            scalar_block(a, b) += (mass * s[b] + (1 - skew) * rho * conv[b]) * sa -
+                                  skew * rho * ca * s[b] + mu_da * ds[b] + sd * conv[b] * ca;
+          if (symmetric)
+            for (unsigned int ci = 0; ci < dim; ++ci)
+              for (unsigned int cj = 0; cj < dim; ++cj)
+                for (unsigned int b = 0; b < n_scalar; ++b)
+                  cross_blocks[ci * dim + cj](a, b) += mu_da[cj] * ds[b][ci];
+          if (with_mass)
           {
-            double a = 0;
-            if (ci == comp[j])
-              a = (mass * s[j] + (1 - skew) * rho * (u_star[q] * ds[j])) * s[i] -
-                  skew * rho * (u_star[q] * ds[i]) * s[j] + mu * (ds[i] * ds[j]) +
-                  sd * (u_star[q] * ds[j]) * (u_star[q] * ds[i]);
-            if (symmetric)
-              a += mu * ds[i][comp[j]] * ds[j][ci];
-            cell_matrix(i, j) += a * JxW;
+            const double rho_sa = mat.density[q] * sa;
+            for (unsigned int b = 0; b < n_scalar; ++b)
+              mass_block(a, b) += rho_sa * s[b];
           }
-          cell_rhs(i) += (rhs[ci] * s[i] + p_sharp * ds[i][ci]) * JxW;
         }
+        for (unsigned int i = 0; i < n; ++i)
+          cell_rhs(i) += (rhs[comp[i]] * s[base[i]] + p_sharp * ds[base[i]][comp[i]]) * JxW;
       }
+      for (unsigned int i = 0; i < n; ++i)
+        for (unsigned int j = 0; j < n; ++j)
+        {
+          double a = comp[i] == comp[j] ? scalar_block(base[i], base[j]) : 0.0;
+          if (symmetric)
+            a += cross_blocks[comp[i] * dim + comp[j]](base[i], base[j]);
+          cell_matrix(i, j) = a;
+          if (with_mass)
+            cell_mass(i, j) = comp[i] == comp[j] ? mass_block(base[i], base[j]) : 0.0;
+        }
       for (const auto *term : active_terms)
         term->assemble(term_cell, cell_matrix, cell_rhs);
       cell->get_dof_indices(indices);
       velocity_constraints.distribute_local_to_global(cell_matrix, cell_rhs, indices, velocity_matrix, velocity_rhs);
+      if (with_mass)
+        velocity_constraints.distribute_local_to_global(cell_mass, indices, velocity_mass);
     }
     velocity_matrix.compress(VectorOperation::add);
     velocity_rhs.compress(VectorOperation::add);
+    if (with_mass)
+      velocity_mass.compress(VectorOperation::add);
   }
 
   template <int dim>
   unsigned int NavierStokes<dim>::solve_velocity()
   {
-    const bool use_ilu = prm.velocity_preconditioner == "ilu";
+    const std::string &kind = prm.velocity_preconditioner;
     if (step_number % prm.amg_rebuild_interval == 0 || rebuild_velocity_preconditioner)
     {
       rebuild_velocity_preconditioner = false;
-      if (use_ilu)
+      if (kind == "ilu")
         velocity_ilu.initialize(velocity_matrix);
+      else if (kind == "ssor")
+        velocity_ssor.initialize(velocity_matrix);
+      else if (kind == "jacobi")
+        velocity_jacobi.initialize(velocity_matrix);
       else
       {
         TrilinosWrappers::PreconditionAMG::AdditionalData amg;
@@ -448,8 +507,12 @@ namespace twinflow::fem
     SolverGMRES<TrilinosWrappers::MPI::Vector> gmres(
       control, SolverGMRES<TrilinosWrappers::MPI::Vector>::AdditionalData(100, true));
     solve_named("Navier-Stokes velocity", [&] {
-      if (use_ilu)
+      if (kind == "ilu")
         gmres.solve(velocity_matrix, x, velocity_rhs, velocity_ilu);
+      else if (kind == "ssor")
+        gmres.solve(velocity_matrix, x, velocity_rhs, velocity_ssor);
+      else if (kind == "jacobi")
+        gmres.solve(velocity_matrix, x, velocity_rhs, velocity_jacobi);
       else
         gmres.solve(velocity_matrix, x, velocity_rhs, velocity_amg);
     });
@@ -532,8 +595,6 @@ namespace twinflow::fem
     TrilinosWrappers::MPI::Vector p(pressure_owned, comm);
     p = p_n;
     p += phi;
-    if (variable)
-      correct_velocity(dt, c, phi);
     phi_nm1 = phi_n;
     phi_n   = phi;
     p_n     = p;
@@ -541,63 +602,47 @@ namespace twinflow::fem
   }
 
   template <int dim>
-  void NavierStokes<dim>::correct_velocity(const double dt, const BdfCoefficients &c,
-                                           const TrilinosWrappers::MPI::Vector &phi_owned)
+  void NavierStokes<dim>::correct_velocity(const double dt, const BdfCoefficients &c)
   {
-    TrilinosWrappers::MPI::Vector phi(pressure_owned, pressure_relevant, comm);
-    phi = phi_owned;
-    velocity_mass = 0;
-    velocity_rhs  = 0;
+    // u^{n+1} = ũ − (τ/α0) δ with M_ρ δ = (∇φ, v): the L²(ρ^{n+1}) projection of
+    // ũ − τ/(α0 ρ) ∇φ, with M_ρ assembled beside the momentum matrix (same ρ^{n+1}).
+    TimerOutput::Scope scope(timer_output, "velocity correction");
+    const TrilinosWrappers::MPI::Vector &phi = phi_n; // the increment just solved for
+    velocity_rhs = 0;
     const QGauss<dim>  quad(fe_velocity.degree + 1);
-    FEValues<dim>      fev(mapping, fe_velocity, quad, update_values | update_JxW_values | update_quadrature_points);
+    FEValues<dim>      fev(mapping, fe_velocity, quad, update_values | update_JxW_values);
     FEValues<dim>      fep(mapping, fe_pressure, quad, update_gradients);
     const unsigned int n = fe_velocity.n_dofs_per_cell();
-    FullMatrix<double> cell_matrix(n, n);
     Vector<double>     cell_rhs(n);
     std::vector<types::global_dof_index> indices(n);
-    std::vector<Tensor<1, dim>> u(quad.size()), grad_phi(quad.size());
+    std::vector<Tensor<1, dim>> grad_phi(quad.size());
     std::vector<unsigned int>   comp(n);
     for (unsigned int i = 0; i < n; ++i)
       comp[i] = fe_velocity.system_to_component_index(i).first;
-    const FEValuesExtractors::Vector vel(0);
-    MaterialValues<dim> mat;
     for (const auto &cell : velocity_dofs.active_cell_iterators())
       if (cell->is_locally_owned())
       {
         fev.reinit(cell);
         const typename DoFHandler<dim>::active_cell_iterator pcell(&tria, cell->level(), cell->index(), &pressure_dofs);
         fep.reinit(pcell);
-        fev[vel].get_function_values(u_n, u);
         fep.get_function_gradients(phi, grad_phi);
-        material.evaluate(cell, fev.get_quadrature_points(), current_time + dt, mat);
-        cell_matrix = 0;
-        cell_rhs    = 0;
+        cell_rhs = 0;
         for (unsigned int q = 0; q < quad.size(); ++q)
-        {
-          const double         rho = mat.density[q], JxW = fev.JxW(q);
-          const Tensor<1, dim> target = rho * u[q] - dt / c.a0 * grad_phi[q];
           for (unsigned int i = 0; i < n; ++i)
-          {
-            const double si = fev.shape_value(i, q);
-            for (unsigned int j = 0; j < n; ++j)
-              if (comp[i] == comp[j])
-                cell_matrix(i, j) += rho * si * fev.shape_value(j, q) * JxW;
-            cell_rhs(i) += target[comp[i]] * si * JxW;
-          }
-        }
+            cell_rhs(i) += grad_phi[q][comp[i]] * fev.shape_value(i, q) * fev.JxW(q);
         cell->get_dof_indices(indices);
-        velocity_constraints.distribute_local_to_global(cell_matrix, cell_rhs, indices, velocity_mass, velocity_rhs);
+        velocity_constraints.distribute_local_to_global(cell_rhs, indices, velocity_rhs);
       }
-    velocity_mass.compress(VectorOperation::add);
     velocity_rhs.compress(VectorOperation::add);
-    TrilinosWrappers::MPI::Vector x(velocity_owned, comm);
-    x = u_n;
-    velocity_constraints.set_zero(x);
+    TrilinosWrappers::MPI::Vector delta(velocity_owned, comm);
     TrilinosWrappers::PreconditionJacobi jacobi;
     jacobi.initialize(velocity_mass);
     SolverControl control(2000, std::max(prm.linear_tolerance * velocity_rhs.l2_norm(), 1e-300));
     SolverCG<TrilinosWrappers::MPI::Vector> cg(control);
-    solve_named("Navier-Stokes velocity correction", [&] { cg.solve(velocity_mass, x, velocity_rhs, jacobi); });
+    solve_named("Navier-Stokes velocity correction", [&] { cg.solve(velocity_mass, delta, velocity_rhs, jacobi); });
+    TrilinosWrappers::MPI::Vector x(velocity_owned, comm);
+    x = u_n;
+    x.add(-dt / c.a0, delta);
     velocity_constraints.distribute(x);
     u_n = x;
   }

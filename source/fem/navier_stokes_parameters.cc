@@ -29,8 +29,10 @@ namespace twinflow::fem
                       "c tau_K rho (u*.grad u)(u*.grad v) with tau_K = h_K / (2 |u*|) (c rho h |u| / 2 "
                       "along streamlines; 0: Galerkin). Free-surface scenes need it: the air "
                       "(rho 1.2, mu 1.8e-5) has cell Reynolds numbers of 1e3 and more.");
-    prm.declare_entry("Velocity preconditioner", "amg", Selection("amg|ilu"),
-                      "Preconditioner of the velocity GMRES: Trilinos ML AMG (Gauss-Seidel smoothing) or ILU(0).");
+    prm.declare_entry("Velocity preconditioner", "amg", Selection("amg|ilu|ssor|jacobi"),
+                      "Preconditioner of the velocity GMRES: Trilinos ML AMG (Gauss-Seidel smoothing), ILU(0), "
+                      "SSOR or Jacobi (the last two cost nothing to set up; enough when the step makes the "
+                      "matrix mass-dominated, as in two-phase runs at the CFL limit).");
   }
 
   void NavierStokesParameters::parse(dealii::ParameterHandler &prm)

@@ -52,7 +52,7 @@ namespace twinflow::fem
     ViscousForm  viscous_form     = ViscousForm::laplacian;
     double       linear_tolerance = 1e-10; ///< relative residual of every Krylov solve
     unsigned int amg_rebuild_interval = 1; ///< velocity preconditioner rebuilt every n steps
-    std::string  velocity_preconditioner = "amg"; ///< amg | ilu
+    std::string  velocity_preconditioner = "amg"; ///< amg | ilu | ssor | jacobi
     double       streamline_diffusion = 0;      ///< c of c τ_K ρ (u*·∇u)(u*·∇v); 0: Galerkin
     bool         variable_projection  = false;  ///< −∇·(ρ⁻¹∇φ) instead of −χΔφ, χ = ρ_min
 
@@ -173,8 +173,9 @@ namespace twinflow::fem
     void assemble_velocity_system(double dt, const BdfCoefficients &c);
     unsigned int solve_velocity();
     unsigned int solve_pressure_increment(double dt, const BdfCoefficients &c);
-    /// Variable-density projection: u^{n+1} = ũ − (τ/(α0 ρ))∇φ, L²(ρ)-projected onto V_h.
-    void         correct_velocity(double dt, const BdfCoefficients &c, const dealii::TrilinosWrappers::MPI::Vector &phi);
+    /// Variable-density projection: u^{n+1} = ũ − (τ/(α0 ρ))∇φ^{n+1} (φ_n, just solved for),
+    /// L²(ρ)-projected onto V_h with the mass assembled beside the momentum matrix.
+    void         correct_velocity(double dt, const BdfCoefficients &c);
 
     MPI_Comm                                           comm;
     dealii::parallel::distributed::Triangulation<dim> &tria;
@@ -200,6 +201,8 @@ namespace twinflow::fem
     dealii::TrilinosWrappers::SparseMatrix velocity_matrix, pressure_laplace, velocity_mass;
     dealii::TrilinosWrappers::PreconditionAMG velocity_amg, pressure_amg;
     dealii::TrilinosWrappers::PreconditionILU velocity_ilu;
+    dealii::TrilinosWrappers::PreconditionSSOR   velocity_ssor;
+    dealii::TrilinosWrappers::PreconditionJacobi velocity_jacobi;
     dealii::TrilinosWrappers::MPI::Vector     velocity_rhs, pressure_rhs;
 
     /// Ghosted state: u^n, u^{n-1}, p^n, φ^n, φ^{n-1}.
