@@ -20,6 +20,12 @@ namespace twinflow::fem
     prm.declare_entry("Checkpoint interval", "0", Patterns::Double(0),
                       "> 0: write a checkpoint (mesh, every field, time-step history) every this many simulated "
                       "seconds into <output>/fem/checkpoint.*; 0: none.");
+    prm.declare_entry("Coupling iterations", "1", Patterns::Integer(1, 100),
+                      "Rigid bodies: 1 = explicit co-simulation (the last step's loads, with Soeding's added-mass "
+                      "correction); n > 1 = up to n Navier-Stokes solves per step with Aitken-relaxed loads until "
+                      "they agree (implicit coupling: light bodies, rho_s < rho_w, need it).");
+    prm.declare_entry("Coupling tolerance", "1e-3", Patterns::Double(1e-12, 1),
+                      "Sub-iterations end when |loads - guess| <= this * max(|loads|, sum of body weights).");
     prm.declare_entry("Restart file", "", Patterns::Anything(),
                       "Checkpoint prefix to continue from (e.g. output/scene/fem/checkpoint); empty: start at t = 0. "
                       "The scene and the FEM discretisation must be those that wrote it.");
@@ -48,6 +54,8 @@ namespace twinflow::fem
     steady_tolerance = prm.get_double("Steady-state tolerance");
     checkpoint_interval = prm.get_double("Checkpoint interval");
     restart_file        = prm.get("Restart file");
+    coupling_iterations = prm.get_integer("Coupling iterations");
+    coupling_tolerance  = prm.get_double("Coupling tolerance");
     prm.enter_subsection("Navier-Stokes");
     navier_stokes.parse(prm);
     prm.leave_subsection();

@@ -424,11 +424,55 @@ namespace twinflow::fem
   }
 
   template <int dim>
-  void FemSimulation<dim>::advance_bodies(const double dt)
+  void FemSimulation<dim>::advance_flow_and_bodies(const double dt)
   {
     if (!coupling)
+    {
+      navier_stokes->advance(dt);
       return;
-    coupling->advance(dt, body_loads);
+    }
+    ++coupling_steps;
+    if (prm.coupling_iterations <= 1)
+    {
+      advance_bodies(dt, body_loads);
+      navier_stokes->advance(dt);
+      ++coupling_solves;
+      record_body_loads();
+      if (body_monitor)
+        body_monitor->append(navier_stokes->time(), body_loads);
+      return;
+    }
+    const solids::CoSimulation                  bodies_at_start = *coupling;
+    const typename NavierStokes<dim>::StepState flow_at_start   = navier_stokes->save_step();
+    std::vector<double>                         extents;
+    for (std::size_t b = 0; b < coupling->n_bodies(); ++b)
+      extents.push_back(coupling->body_extent(b));
+    double g = 0;
+    for (const double c : scene.gravity)
+      g += c * c;
+    solids::LoadRelaxation relaxation(prm.coupling_iterations, prm.coupling_tolerance);
+    relaxation.start(body_loads, extents, coupling->weight_scale(std::sqrt(g)));
+    for (;;)
+    {
+      *coupling = bodies_at_start;
+      advance_bodies(dt, relaxation.guess());
+      navier_stokes->advance(dt);
+      ++coupling_solves;
+      record_body_loads();
+      if (relaxation.update(body_loads))
+        break;
+      navier_stokes->restore_step(flow_at_start);
+    }
+    if (!relaxation.converged())
+      ++coupling_unconverged;
+    if (body_monitor)
+      body_monitor->append(navier_stokes->time(), body_loads);
+  }
+
+  template <int dim>
+  void FemSimulation<dim>::advance_bodies(const double dt, const std::vector<solids::BodyLoad> &loads)
+  {
+    coupling->advance(dt, loads);
     coupling->check_clear_of_walls(scene);
     for (std::size_t b = 0; b < coupling->n_bodies(); ++b)
     {
@@ -469,8 +513,6 @@ namespace twinflow::fem
                                  ": the fluid load on body '" + coupling->name(b) + "' is not finite; reduce FEM/Time "
                                  "step or FEM/CFL number. Monitors written so far are kept in " + dir);
     }
-    if (body_monitor)
-      body_monitor->append(navier_stokes->time(), body_loads);
   }
 
   template <int dim>
@@ -519,10 +561,11 @@ namespace twinflow::fem
                                  std::to_string(ns.n_steps()) + "): the CFL step fell to " + std::to_string(dt) +
                                  " s (max |u| = " + std::to_string(ns.max_velocity()) +
                                  " m/s); reduce FEM/CFL number or refine. Monitors written so far are kept in " + dir);
-      advance_bodies(dt); // Fig. 1: the bodies move under the last step's loads; φ_s, u_s follow
       for (auto *p : physics)
-        p->advance(dt);
-      record_body_loads();
+        if (p == navier_stokes.get())
+          advance_flow_and_bodies(dt); // Fig. 1: the bodies move under the loads; φ_s, u_s follow
+        else
+          p->advance(dt);
       if (ls_space)
         ls_space->add_travel(ns.max_velocity() * dt); // the surface moved at most this far
       const StepStatistics &st = ns.statistics();

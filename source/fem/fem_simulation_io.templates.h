@@ -263,6 +263,9 @@ namespace twinflow::fem
     {
       body_monitor->summarise(summary, result.monitors);
       summary.set_extra("rigid-body RK4 sub-steps", double(coupling->substeps_taken()));
+      summary.set_extra("coupling: Navier-Stokes solves per step",
+                        coupling_steps > 0 ? double(coupling_solves) / coupling_steps : 0.0);
+      summary.set_extra("coupling: steps not converged", double(coupling_unconverged));
     }
     summary.set_monitor_values(result.monitors);
     summary.set_extra("active physics", internal::join(result.active_physics, "; "));

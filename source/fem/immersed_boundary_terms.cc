@@ -147,16 +147,31 @@ namespace twinflow::fem
     const QGauss<dim> quad(fe.degree + 1);
     FEValues<dim> fev(flow.get_mapping(), fe, quad, update_values | update_gradients | update_JxW_values | update_quadrature_points);
     const FEValuesExtractors::Vector vel(0);
-    std::vector<Tensor<1, dim>> u(quad.size());
+    std::vector<Tensor<1, dim>> u(quad.size()), grad_increment(quad.size());
     std::vector<Tensor<2, dim>> grad_u(quad.size());
     MaterialValues<dim>         mat;
     const double tau = last_time_step > 0 ? last_time_step : std::numeric_limits<double>::max();
+    // The reaction of the step's own terms: with the variable-density projection the momentum
+    // step solved for ũ with p^n, and the correction u = ũ − τ/(α0ρ)∇φ is not a solution of
+    // those terms (tested with u, C_β(u − u_s) would carry γ_β/α0 times the increment ∇φ: an
+    // added mass of ~10–60 ρ V). The load is the reaction for ũ plus the increment's own
+    // −∫ H_s ∇φ, so that the pressure part is −∫ H_s ∇p^{n+1}.
+    const bool corrected = flow.velocity_corrected();
+    const auto &pressure_dofs = flow.pressure_dof_handler();
+    FEValues<dim> fep(flow.get_mapping(), pressure_dofs.get_fe(), quad, update_gradients);
     for (const auto &cell : dofs.active_cell_iterators())
       if (cell->is_locally_owned() && acts_on(cell))
       {
         fev.reinit(cell);
-        fev[vel].get_function_values(flow.velocity(), u);
-        fev[vel].get_function_gradients(flow.velocity(), grad_u);
+        fev[vel].get_function_values(flow.momentum_velocity(), u);
+        fev[vel].get_function_gradients(flow.momentum_velocity(), grad_u);
+        if (corrected)
+        {
+          const typename DoFHandler<dim>::active_cell_iterator pcell(&dofs.get_triangulation(), cell->level(),
+                                                                     cell->index(), &pressure_dofs);
+          fep.reinit(pcell);
+          fep.get_function_gradients(flow.pressure_increment(), grad_increment);
+        }
         flow.material_model().evaluate(cell, fev.get_quadrature_points(), flow.time(), mat);
         const double h = cell_size(cell), eps = prm.interface_width * h;
         for (unsigned int q = 0; q < quad.size(); ++q)
@@ -174,7 +189,7 @@ namespace twinflow::fem
           const Tensor<1, dim> slip = u[q] - bodies[k]->velocity(x);
           const Tensor<1, dim> f =
             (delta * (-mu * stress_normal<dim>(grad_u[q], n_f, flow.symmetric_stress()) + c_alpha * slip) +
-             H * c_beta * slip) * fev.JxW(q);
+             H * (c_beta * slip - (corrected ? grad_increment[q] : Tensor<1, dim>()))) * fev.JxW(q);
           out[k].force += f;
           const Tensor<1, dim> r = x - bodies[k]->center();
           if constexpr (dim == 2)

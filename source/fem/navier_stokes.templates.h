@@ -176,7 +176,7 @@ namespace twinflow::fem
 
     velocity_rhs.reinit(velocity_owned, comm);
     pressure_rhs.reinit(pressure_owned, comm);
-    for (auto *v : {&u_n, &u_nm1})
+    for (auto *v : {&u_n, &u_nm1, &u_momentum})
       v->reinit(velocity_owned, velocity_relevant, comm);
     for (auto *v : {&p_n, &phi_n, &phi_nm1})
       v->reinit(pressure_owned, pressure_relevant, comm);
@@ -292,6 +292,27 @@ namespace twinflow::fem
     have_history   = true;
     ++step_number;
     return stats;
+  }
+
+  template <int dim>
+  typename NavierStokes<dim>::StepState NavierStokes<dim>::save_step() const
+  {
+    return {u_n, u_nm1, p_n, phi_n, phi_nm1, current_time, dt_last, dt_before_last, step_number, have_history};
+  }
+
+  template <int dim>
+  void NavierStokes<dim>::restore_step(const StepState &s)
+  {
+    u_n            = s.u_n;
+    u_nm1          = s.u_nm1;
+    p_n            = s.p_n;
+    phi_n          = s.phi_n;
+    phi_nm1        = s.phi_nm1;
+    current_time   = s.current_time;
+    dt_last        = s.dt_last;
+    dt_before_last = s.dt_before_last;
+    step_number    = s.step_number;
+    have_history   = s.have_history;
   }
 
   template <int dim>
@@ -640,6 +661,8 @@ namespace twinflow::fem
     SolverControl control(2000, std::max(prm.linear_tolerance * velocity_rhs.l2_norm(), 1e-300));
     SolverCG<TrilinosWrappers::MPI::Vector> cg(control);
     solve_named("Navier-Stokes velocity correction", [&] { cg.solve(velocity_mass, delta, velocity_rhs, jacobi); });
+    if (!momentum_terms.empty())
+      u_momentum = u_n;
     TrilinosWrappers::MPI::Vector x(velocity_owned, comm);
     x = u_n;
     x.add(-dt / c.a0, delta);

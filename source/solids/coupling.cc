@@ -83,6 +83,70 @@ namespace twinflow::solids
     }
   }
 
+  double CoSimulation::weight_scale(const double gravity) const
+  {
+    double w = 0;
+    for (const auto &b : bodies)
+      w += b.mass_properties().mass * gravity;
+    return w;
+  }
+
+  LoadRelaxation::LoadRelaxation(const int max_iterations, const double tolerance, const double initial_omega)
+    : max_iterations(max_iterations), tolerance(tolerance), omega0(initial_omega)
+  {
+    if (max_iterations < 1 || !(tolerance > 0) || !(initial_omega > 0 && initial_omega <= 1))
+      throw std::invalid_argument("LoadRelaxation: need max_iterations >= 1, tolerance > 0, 0 < omega <= 1");
+  }
+
+  void LoadRelaxation::start(const std::vector<BodyLoad> &first_guess, const std::vector<double> &extents,
+                             const double load_scale)
+  {
+    current        = first_guess;
+    extent         = extents;
+    scale          = load_scale;
+    iteration      = 0;
+    omega          = omega0;
+    done_converged = false;
+    previous_residual.resize(0);
+  }
+
+  bool LoadRelaxation::update(const std::vector<BodyLoad> &computed)
+  {
+    const std::size_t n = current.size();
+    Eigen::VectorXd   r(6 * n);
+    double            magnitude = 0;
+    for (std::size_t b = 0; b < n; ++b)
+    {
+      const double l = extent[b] > 0 ? extent[b] : 1.0;
+      r.segment<3>(6 * b)     = computed[b].force - current[b].force;
+      r.segment<3>(6 * b + 3) = (computed[b].torque - current[b].torque) / l;
+      magnitude = std::max({magnitude, computed[b].force.norm(), computed[b].torque.norm() / l});
+    }
+    ++iteration;
+    last_residual  = r.norm() / std::max({scale, magnitude, 1e-300});
+    done_converged = last_residual <= tolerance;
+    if (done_converged || iteration >= max_iterations)
+    {
+      current = computed;
+      return true;
+    }
+    if (previous_residual.size() == r.size())
+    {
+      const Eigen::VectorXd dr = r - previous_residual;
+      const double          d2 = dr.squaredNorm();
+      if (d2 > 0)
+        omega = -omega * previous_residual.dot(dr) / d2;
+    }
+    previous_residual = r;
+    for (std::size_t b = 0; b < n; ++b)
+    {
+      const double l = extent[b] > 0 ? extent[b] : 1.0;
+      current[b].force += omega * r.segment<3>(6 * b);
+      current[b].torque += omega * l * r.segment<3>(6 * b + 3);
+    }
+    return false;
+  }
+
   void CoSimulation::check_clear_of_walls(const Scene &scene) const
   {
     static const char *faces[6] = {"left", "right", "bottom", "top", "front", "back"};

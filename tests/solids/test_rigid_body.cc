@@ -195,6 +195,83 @@ TEST(RigidBody, AddedMassCorrectionStabilisesExplicitCoupling)
   EXPECT_NEAR(corrected.period, exact_period, 0.01 * exact_period);
 }
 
+// The implicit coupling the FEM uses for light bodies (solids::LoadRelaxation): the same
+// disk of rho_s = 0.3 rho_w on the hydrostatic spring with the added mass M = 3.3 m, now with
+// no added-mass correction. Each step is repeated with Aitken-relaxed loads until the "fluid"
+// load F = m g - k y - M a of the moved body agrees with the one it moved under. Explicit
+// coupling (one pass) diverges; the sub-iterations converge in every step and give the
+// oscillation of the body with its added mass: amplitude kept, period 2 pi sqrt((m + M)/k).
+TEST(CoSimulation, AitkenSubIterationsMakeLightBodyCouplingImplicit)
+{
+  const double rho_s = 300, rho_w = 1000, r = 0.1, g = 9.81, dt = 1e-3, y0 = 0.02;
+  const MassProperties mp = MassProperties::cylinder(rho_s, r, 1.0);
+  const double M = rho_w * M_PI * r * r, k = 2 * rho_w * g * r;
+  auto run = [&](int max_iterations, double &period, double &mean_iterations, int &unconverged) {
+    RigidBodyState s;
+    s.position = Vector3(0, y0, 0);
+    RigidBody      body(mp, s, DofMask::parse_locked("x, rz", 2), Vector3(0, -g, 0));
+    LoadRelaxation relax(max_iterations, 1e-10);
+    std::vector<BodyLoad> loads(1);
+    loads[0].force = Vector3(0, mp.mass * g - k * y0, 0);
+    double excursion = 0, last_crossing = -1, y_old = y0, sum_periods = 0;
+    int    crossings = 0, total_iterations = 0;
+    unconverged = 0;
+    const int steps = 3000;
+    for (int n = 0; n < steps; ++n)
+    {
+      const RigidBody start = body;
+      relax.start(loads, {r}, mp.mass * g);
+      for (;;)
+      {
+        body = start;
+        body.set_load(relax.guess()[0].force, Vector3::Zero());
+        body.advance(dt, 5);
+        loads[0].force = Vector3(0, mp.mass * g - k * body.state().position.y() - M * body.acceleration().y(), 0);
+        if (relax.update(loads))
+          break;
+      }
+      total_iterations += relax.iterations();
+      unconverged += relax.converged() ? 0 : 1;
+      const double y_new = body.state().position.y();
+      excursion          = std::max(excursion, std::abs(y_new));
+      if (!std::isfinite(y_new) || excursion > 1)
+        return 1e300;
+      if (y_old > 0 && y_new <= 0)
+      {
+        const double tc = body.time() - dt * y_new / (y_new - y_old);
+        if (last_crossing >= 0)
+          sum_periods += tc - last_crossing, ++crossings;
+        last_crossing = tc;
+      }
+      y_old = y_new;
+    }
+    period          = crossings ? sum_periods / crossings : 0;
+    mean_iterations = double(total_iterations) / steps;
+    return excursion;
+  };
+  double period = 0, iterations = 0;
+  int    unconverged = 0;
+  const double explicit_excursion = run(1, period, iterations, unconverged);
+  const double implicit_excursion = run(30, period, iterations, unconverged);
+  const double exact_period       = 2 * M_PI * std::sqrt((mp.mass + M) / k);
+  std::printf("rho_s/rho_w = 0.3, no added-mass correction: explicit excursion %.3g m; Aitken sub-iterations: "
+              "%.4f m, %.2f load evaluations per step, %d steps unconverged, period %.4f s (exact %.4f s)\n",
+              explicit_excursion, implicit_excursion, iterations, unconverged, period, exact_period);
+  EXPECT_GT(explicit_excursion, 1.0);
+  EXPECT_EQ(unconverged, 0);
+  EXPECT_LT(iterations, 10.0);
+  EXPECT_LT(implicit_excursion, 1.01 * y0); // the implicit oscillation neither grows …
+  EXPECT_GT(implicit_excursion, 0.99 * y0); // … nor is damped by the iteration
+  EXPECT_NEAR(period, exact_period, 0.01 * exact_period);
+}
+
+TEST(CoSimulation, LoadRelaxationRefusesBadSettings)
+{
+  EXPECT_THROW(LoadRelaxation(0, 1e-3), std::invalid_argument);
+  EXPECT_THROW(LoadRelaxation(5, 0), std::invalid_argument);
+  EXPECT_THROW(LoadRelaxation(5, 1e-3, 1.5), std::invalid_argument);
+}
+
 TEST(RigidBody, MassProperties)
 {
   const MassProperties c = MassProperties::cylinder(700, 0.12, 0.2);

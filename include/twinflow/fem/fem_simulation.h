@@ -40,6 +40,8 @@ namespace twinflow::fem
     double                     cfl                = 0;    ///< > 0: dt = CFL h_min / |u|_max
     double                     steady_tolerance   = 0;    ///< > 0: stop when |du/dt|/|u| < tol
     double                     checkpoint_interval = 0;   ///< > 0: checkpoint every this many seconds
+    unsigned int               coupling_iterations = 1;   ///< rigid bodies: 1 explicit, > 1 Aitken sub-iterations
+    double                     coupling_tolerance  = 1e-3; ///< relative load residual that ends them
     std::string                restart_file;              ///< checkpoint to continue from (empty: none)
     NavierStokesParameters     navier_stokes;
     MeshAdaptationParameters   adaptation;
@@ -135,7 +137,12 @@ namespace twinflow::fem
     std::unique_ptr<solids::CoSimulation>               coupling;
     std::vector<solids::BodyLoad>                       body_loads; ///< fluid loads of the last step
     std::unique_ptr<io::BodyMonitor>                    body_monitor;
-    void advance_bodies(double dt);
+    /// Moves the bodies over @p dt under @p loads; the IBM's φ_s, u_s follow.
+    void advance_bodies(double dt, const std::vector<solids::BodyLoad> &loads);
+    /// Navier–Stokes and the bodies over one step: explicit (the last step's loads), or with
+    /// FEM/Coupling iterations > 1 repeated with Aitken-relaxed loads until they agree.
+    void advance_flow_and_bodies(double dt);
+    std::size_t coupling_steps = 0, coupling_solves = 0, coupling_unconverged = 0;
     void record_body_loads();
     double bodies_energy() const;
     std::shared_ptr<dealii::Function<dim>>              initial_water_distance;

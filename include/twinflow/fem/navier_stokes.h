@@ -121,6 +121,19 @@ namespace twinflow::fem
     /// Advance one step of size @p dt.
     const StepStatistics &step(double dt);
 
+    /// Everything step() changes: repeating a step from a StepState (coupling sub-iterations)
+    /// gives the same result as the first try with the same data.
+    struct StepState
+    {
+      dealii::TrilinosWrappers::MPI::Vector u_n, u_nm1, p_n, phi_n, phi_nm1;
+      double                                current_time = 0, dt_last = 0, dt_before_last = 0;
+      unsigned int                          step_number  = 0;
+      bool                                  have_history = false;
+    };
+    StepState save_step() const;
+    /// Back to @p state (same mesh as when it was saved).
+    void restore_step(const StepState &state);
+
     double       time() const { return current_time; }
     const StepStatistics &statistics() const { return stats; }
     unsigned int n_steps() const { return step_number; }
@@ -145,6 +158,17 @@ namespace twinflow::fem
     const dealii::DoFHandler<dim> &pressure_dof_handler() const { return pressure_dofs; }
     const dealii::TrilinosWrappers::MPI::Vector &velocity() const { return u_n; }
     const dealii::TrilinosWrappers::MPI::Vector &pressure() const { return p_n; }
+    /// True when the last step corrected the velocity after the pressure solve (the
+    /// variable-density projection); then velocity() differs from momentum_velocity().
+    bool velocity_corrected() const { return prm.variable_projection && !material.is_constant(); }
+    /// ũ^{n+1}, the velocity of the last momentum step (before the variable-density
+    /// correction; kept only when momentum terms need it), else velocity().
+    const dealii::TrilinosWrappers::MPI::Vector &momentum_velocity() const
+    {
+      return velocity_corrected() && !momentum_terms.empty() ? u_momentum : u_n;
+    }
+    /// φ^{n+1} = p^{n+1} − p^n, the pressure increment of the last step.
+    const dealii::TrilinosWrappers::MPI::Vector &pressure_increment() const { return phi_n; }
     /// u^n once a step has been taken (u^{n+1} is velocity()): the level-set transports use
     /// the midpoint velocity of the step.
     const dealii::TrilinosWrappers::MPI::Vector &previous_velocity() const { return u_nm1; }
@@ -207,6 +231,7 @@ namespace twinflow::fem
 
     /// Ghosted state: u^n, u^{n-1}, p^n, φ^n, φ^{n-1}.
     dealii::TrilinosWrappers::MPI::Vector u_n, u_nm1, p_n, phi_n, phi_nm1;
+    dealii::TrilinosWrappers::MPI::Vector u_momentum; ///< ũ^{n+1} (see momentum_velocity())
     double       current_time = 0, dt_last = 0, dt_before_last = 0;
     unsigned int step_number = 0;
     bool         have_history = false; ///< u^{n-1} is a real previous step

@@ -54,6 +54,38 @@ namespace twinflow::solids
   /// Mass properties of a scene solid of its Density (2D: per unit depth).
   MassProperties solid_mass_properties(const Solid &solid, int dim, double span);
 
+  /// Implicit coupling by fixed-point sub-iterations on the body loads with Aitken's dynamic
+  /// relaxation (Küttler & Wall 2008): a step is repeated with the guess F_k, the fluid returns
+  /// F̃_k, r_k = F̃_k − F_k, F_{k+1} = F_k + ω_k r_k with ω_k = −ω_{k−1} r_{k−1}·(r_k − r_{k−1}) /
+  /// |r_k − r_{k−1}|². For a light body the explicit map F_k → F̃_k has the gain −M_a/m (added
+  /// over body mass) and diverges for M_a > m; the secant-like ω makes it converge in a few
+  /// iterations whatever the ratio. Torques enter the residual divided by the body's extent
+  /// (so that every entry is a force). Converged: |r_k| ≤ tolerance · max(|F̃_k|, Σ m g).
+  class LoadRelaxation
+  {
+  public:
+    LoadRelaxation(int max_iterations, double tolerance, double initial_omega = 0.5);
+    /// A new step: the first guess (usually the last step's loads), @p extents per body for
+    /// the torque scale, @p load_scale (Σ m g) for the tolerance.
+    void start(const std::vector<BodyLoad> &first_guess, const std::vector<double> &extents, double load_scale);
+    const std::vector<BodyLoad> &guess() const { return current; }
+    /// The fluid's loads for the current guess: true when converged (or the iteration limit
+    /// is reached); otherwise guess() is the next, relaxed load.
+    bool update(const std::vector<BodyLoad> &computed);
+    int    iterations() const { return iteration; }
+    bool   converged() const { return done_converged; }
+    double residual() const { return last_residual; } ///< |r_k| / scale of the last update
+
+  private:
+    int                   max_iterations;
+    double                tolerance, omega0, omega = 0, scale = 1, last_residual = 0;
+    int                   iteration = 0;
+    bool                  done_converged = false;
+    std::vector<double>   extent;
+    std::vector<BodyLoad> current;
+    Eigen::VectorXd       previous_residual;
+  };
+
   class CoSimulation
   {
   public:
@@ -85,6 +117,10 @@ namespace twinflow::solids
     int                     substeps() const { return n_substeps; }
     /// Total RK4 sub-steps taken (the coupling's cost, besides the fluid's load evaluation).
     std::size_t             substeps_taken() const { return taken; }
+    /// Largest distance of body @p b's surface from its centre.
+    double                  body_extent(std::size_t b) const { return extent[b]; }
+    /// Σ m g over the bodies (the load scale of the coupling tolerance).
+    double                  weight_scale(double gravity) const;
     /// One line per body for the run's "active physics" list.
     std::vector<std::string> describe() const;
 
