@@ -225,8 +225,12 @@ namespace twinflow::fem
       coupling = std::make_unique<solids::CoSimulation>(scene);
       body_loads.assign(coupling->n_bodies(), solids::BodyLoad());
       for (const std::string &line : coupling->describe())
-        active.push_back(line + ", the IBM's phi_s and u_s follow it; experimental: not validated, light bodies "
-                         "diverge (doc/user_guide.md, Limitations)");
+        active.push_back(line + ", the IBM's phi_s and u_s follow it" +
+                         (prm.coupling_iterations > 1
+                            ? "; implicit coupling: up to " + std::to_string(prm.coupling_iterations) +
+                                " Navier-Stokes solves per step with Aitken-relaxed loads"
+                            : std::string("; explicit (FEM/Coupling iterations = 1): light bodies need more")) +
+                         "; experimental: the floating height is not yet validated (doc/user_guide.md, Limitations)");
     }
     else
       idle.insert(idle.begin(), "rigid body");
