@@ -1,5 +1,6 @@
 // FemSimulation<dim>: composition, mesh, adaptation and the time loop.
 #pragma once
+#include <optional>
 #include <twinflow/core/errors.h>
 #include <twinflow/fem/fem_simulation.h>
 #include <twinflow/fem/material_model.h>
@@ -436,38 +437,35 @@ namespace twinflow::fem
       return;
     }
     ++coupling_steps;
-    if (prm.coupling_iterations <= 1)
-    {
-      advance_bodies(dt, body_loads);
-      navier_stokes->advance(dt);
-      ++coupling_solves;
-      record_body_loads();
-      if (body_monitor)
-        body_monitor->append(navier_stokes->time(), body_loads);
-      return;
-    }
-    const solids::CoSimulation                  bodies_at_start = *coupling;
-    const typename NavierStokes<dim>::StepState flow_at_start   = navier_stokes->save_step();
-    std::vector<double>                         extents;
+    // Explicit coupling is the first pass of the iteration; only sub-iterations need the
+    // state at the start of the step to return to.
+    const bool iterate = prm.coupling_iterations > 1;
+    std::optional<solids::CoSimulation>                  bodies_at_start;
+    std::optional<typename NavierStokes<dim>::StepState> flow_at_start;
+    std::vector<double>                                  extents;
     for (std::size_t b = 0; b < coupling->n_bodies(); ++b)
       extents.push_back(coupling->body_extent(b));
-    double g = 0;
-    for (const double c : scene.gravity)
-      g += c * c;
+    if (iterate)
+    {
+      bodies_at_start = *coupling;
+      flow_at_start   = navier_stokes->save_step();
+    }
+    const double g = std::sqrt(scene.gravity[0] * scene.gravity[0] + scene.gravity[1] * scene.gravity[1] +
+                               scene.gravity[2] * scene.gravity[2]);
     solids::LoadRelaxation relaxation(prm.coupling_iterations, prm.coupling_tolerance);
-    relaxation.start(body_loads, extents, coupling->weight_scale(std::sqrt(g)));
+    relaxation.start(body_loads, extents, coupling->weight_scale(g));
     for (;;)
     {
-      *coupling = bodies_at_start;
       advance_bodies(dt, relaxation.guess());
       navier_stokes->advance(dt);
       ++coupling_solves;
       record_body_loads();
       if (relaxation.update(body_loads))
         break;
-      navier_stokes->restore_step(flow_at_start);
+      *coupling = *bodies_at_start;
+      navier_stokes->restore_step(*flow_at_start);
     }
-    if (!relaxation.converged())
+    if (iterate && !relaxation.converged())
       ++coupling_unconverged;
     if (body_monitor)
       body_monitor->append(navier_stokes->time(), body_loads);

@@ -284,7 +284,7 @@ namespace twinflow::fem
       TimerOutput::Scope scope(timer_output, "pressure projection");
       stats.pressure_iterations = solve_pressure_increment(dt, c);
     }
-    if (prm.variable_projection && !material.is_constant())
+    if (velocity_corrected())
       correct_velocity(dt, c);
     dt_before_last = dt_last;
     dt_last        = dt;
@@ -362,7 +362,7 @@ namespace twinflow::fem
     MaterialValues<dim>         mat;
     // Guermond–Salgado: p^# = p^n + 4/3 φ^n − 1/3 φ^{n−1} (BDF2) or p^n + φ^n; the variable-
     // density projection corrects the velocity itself, so the standard incremental p^# = p^n.
-    const bool   projected   = prm.variable_projection && !material.is_constant();
+    const bool   projected   = velocity_corrected();
     // the variable-density correction's L²(ρ^{n+1}) mass: the same ρ, assembled here once
     const bool with_mass = projected;
     if (with_mass)
@@ -555,7 +555,7 @@ namespace twinflow::fem
     // coefficient form −∇·(ρ̄⁻¹∇φ) = −(α0/τ) ∇·ũ, rebuilt every step, so that the pressure
     // changes where the fluid is heavy (with χ = ρ_air the water's pressure would adapt at
     // ρ_air/ρ_water of the rate it needs and the light side of the interface run away).
-    const bool variable = prm.variable_projection && !material.is_constant();
+    const bool variable = velocity_corrected();
     pressure_rhs = 0;
     const QGauss<dim>  quad(fe_velocity.degree + 1);
     FEValues<dim>      fev(mapping, fe_velocity, quad, update_gradients | update_quadrature_points);
