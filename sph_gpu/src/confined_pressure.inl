@@ -3,33 +3,36 @@
 // engine.inl for both backends.
 #pragma once
 #include <twinflow_sph/backend.h>
-#include <twinflow_sph/engine.h>
+#include <twinflow_sph/kernel_views.h>
 
 namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
 {
-  /// V_i (or V_i rhs_i) for the fluid rows of a confined flow's pressure system (not the pin).
+  /// V_i (or V_i f_i) for the fluid rows of a confined flow's pressure system (not the pin).
+  template <int dim>
   struct ConfinedFluidRowWeight
   {
-    const int    *kind;
-    const double *V, *rhs;
-    int           pinned;
+    ParticleView<dim> p;           ///< kind, V
+    const double     *f = nullptr; ///< null: the weight V_i alone
+    int               pinned = -1;
     TWINFLOW_HD double operator()(int i) const
     {
-      if (kind[i] != ParticleKind::fluid || i == pinned)
+      if (!p.fluid(i) || i == pinned)
         return 0.0;
-      return rhs ? V[i] * rhs[i] : V[i];
+      return f ? p.V[i] * f[i] : p.V[i];
     }
   };
 
+  /// rhs_i −= mean on the fluid rows (not the pin).
+  template <int dim>
   struct ShiftConfinedFluidRows
   {
-    const int *kind;
-    int        pinned;
-    double     mean;
-    double    *rhs;
+    ParticleView<dim> p; ///< kind
+    int               pinned = -1;
+    double            mean   = 0;
+    double           *rhs    = nullptr;
     TWINFLOW_HD void operator()(int i) const
     {
-      if (kind[i] == ParticleKind::fluid && i != pinned)
+      if (p.fluid(i) && i != pinned)
         rhs[i] -= mean;
     }
   };
@@ -41,18 +44,20 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
     double *values;
     TWINFLOW_HD void operator()(int i) const { values[i] -= shift; }
   };
+
+  /// The diagonal of the fluid rows −= epsilon.
+  template <int dim>
   struct ShiftFluidDiagonal
   {
-    const int *kind, *offsets, *indices;
-    double     epsilon;
-    double    *values;
+    ParticleView<dim> p; ///< kind
+    NeighborView<dim> nb;
+    double            epsilon = 0;
+    double           *values  = nullptr;
     TWINFLOW_HD void operator()(int i) const
     {
-      if (kind[i] != ParticleKind::fluid)
-        return;
-      for (int k = offsets[i]; k < offsets[i + 1]; ++k)
-        if (indices[k] == i)
-          values[k] -= epsilon;
+      const int kii = p.fluid(i) ? diagonal_entry(nb, i) : -1;
+      if (kii >= 0)
+        values[kii] -= epsilon;
     }
   };
 } // namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail

@@ -29,7 +29,6 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
 {
   namespace detail
   {
-    struct ExtractComponentBase {};
     template <int dim>
     struct ExtractComponent
     {
@@ -43,10 +42,6 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       Vec<dim>     *dst;
       int           c;
       TWINFLOW_HD void operator()(int i) const { dst[i][c] = src[i]; }
-    };
-    struct IsFluid
-    {
-      TWINFLOW_HD bool operator()(int k) const { return k == ParticleKind::fluid; }
     };
 
     class Stopwatch
@@ -146,142 +141,41 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
           for (int d = 0; d < 3; ++d)
             torque_centres[m.body][d] = m.to[d];
       device_motions.assign(motions.begin(), motions.end()); // a few bodies: no reallocation after the first
+      const detail::MotionsView            moved{ptr(device_motions), static_cast<int>(motions.size())};
       const thrust::counting_iterator<int> first(0), last(n);
-      thrust::for_each(exec, first, last,
-                       detail::MoveMarkers<dim>{ptr(kind), body.empty() ? nullptr : ptr(body), ptr(device_motions),
-                                                static_cast<int>(motions.size()), ptr(x), ptr(normal),
-                                                ptr(wall_velocity), ptr(wall_acceleration)});
-      thrust::for_each(exec, first, last,
-                       detail::KeepOutOfSolids<dim>{ptr(kind), ptr(device_motions), static_cast<int>(motions.size()),
-                                                    0.25 * settings.spacing, ptr(x), ptr(u)});
+      detail::MoveMarkers<dim>             move;
+      move.p                 = particles();
+      move.motions           = moved;
+      move.x                 = ptr(x);
+      move.normal            = ptr(normal);
+      move.wall_velocity     = ptr(wall_velocity);
+      move.wall_acceleration = ptr(wall_acceleration);
+      thrust::for_each(exec, first, last, move);
+      detail::KeepOutOfSolids<dim> keep_out;
+      keep_out.p       = particles();
+      keep_out.motions = moved;
+      keep_out.margin  = 0.25 * settings.spacing;
+      keep_out.x       = ptr(x);
+      keep_out.u       = ptr(u);
+      thrust::for_each(exec, first, last, keep_out);
     }
 
+    /// One step of Algorithm 2; each phase is timed into the StepReport.
     const StepReport &step(const double dt) override
     {
       detail::Stopwatch clock;
       report = StepReport();
-      const thrust::counting_iterator<int> first(0), last(n);
-
-      // 1. neighbours, volumes, density, free surface, operators
       search.build(x, nl);
       report.t_neighbors = clock.lap();
-      compute_volumes<dim>(x, nl, box, W, V);
-      thrust::for_each(exec, first, last,
-                       detail::DensityAndSupport<dim>{ptr(x), ptr(kind), ptr(nl.offsets), ptr(nl.indices), box, W, ptr(V), m0,
-                                                      settings.rho0, settings.free_surface_ratio,
-                                                      settings.free_surface_divergence, settings.free_surface_min_neighbours,
-                                                      settings.free_surface,
-                                                      ptr(rho), ptr(support), ptr(surface)});
-      report.free_surface_particles = thrust::reduce(exec, surface.begin(), surface.end(), 0);
-      if (settings.consistent)
-        report.correction_fallbacks =
-          compute_corrections<dim>(x, V, nl, box, W, G, L, settings.correction_checks);
-      assemble_operators<dim>(x, V, nl, box, W, settings.consistent ? OperatorKind::consistent : OperatorKind::standard,
-                              G, L, A);
-      values.resize(nl.n_entries());
-      const double nu = settings.mu / settings.rho0, inv_dt = 1.0 / dt;
-      thrust::for_each(exec, first, last,
-                       detail::VelocityMatrix<dim>{ptr(x), ptr(kind), ptr(nl.offsets), ptr(nl.indices),
-                                                   ptr(A.laplacian), ptr(support), box, W, inv_dt, 0.5 * nu,
-                                                   ptr(values)});
+      compute_density_and_free_surface();
+      assemble_operators_and_velocity_matrix(dt);
       report.t_assembly = clock.lap();
-
-      // fluid velocity at t^n extrapolated to the markers (approach velocity, see ContinuityVelocity)
-      u_approach.resize(n);
-      thrust::for_each(exec, first, last,
-                       detail::ExtrapolateToMarkers<dim>{ptr(x), ptr(u), ptr(kind), ptr(nl.offsets), ptr(nl.indices),
-                                                         ptr(support), box, W, ptr(u_approach)});
-
-      // 2. velocity prediction, Eq. 56 (one solve per component, same matrix)
-      for (int c = 0; c < dim; ++c)
-      {
-        thrust::transform(exec, u.begin(), u.end(), comp.begin(), detail::ExtractComponent<dim>{c});
-        spmv(nl.offsets, nl.indices, A.laplacian, comp, tmp);
-        thrust::for_each(exec, first, last,
-                         detail::VelocityRhs<dim>{ptr(kind), ptr(tmp), ptr(support), ptr(u), ptr(wall_velocity), c,
-                                                  inv_dt, 0.5 * nu, settings.acceleration[c], ptr(rhs)});
-        report.velocity[c] = bicgstab(nl.offsets, nl.indices, values, rhs, comp, settings.velocity_solver);
-        thrust::for_each(exec, first, last, detail::SetComponent<dim>{ptr(comp), ptr(u), c});
-      }
+      predict_velocity(dt);
       report.t_velocity = clock.lap();
-
-      // 3. ∇·u* (Eq. 41) and the pressure Poisson equation, Eq. 53/55/57 + BCE rows
-      thrust::fill(exec, div_u.begin(), div_u.end(), 0.0);
-      const bool neumann = settings.pressure_wall == PressureWall::neumann;
-      u_cont.resize(n);
-      if (neumann)
-        thrust::copy(exec, u.begin(), u.end(), u_cont.begin()); // Chorin: mirrored wall velocity, ∂p/∂n = 0
-      else
-        thrust::for_each(exec, first, last,
-                         detail::ContinuityVelocity<dim>{ptr(kind), ptr(support), ptr(u), ptr(wall_velocity), ptr(u_approach),
-                                                        ptr(normal), ptr(u_cont)});
-      for (int c = 0; c < dim; ++c)
-      {
-        thrust::transform(exec, u_cont.begin(), u_cont.end(), comp.begin(), detail::ExtractComponent<dim>{c});
-        spmv(nl.offsets, nl.indices, A.gradient[c], comp, tmp);
-        thrust::transform(exec, div_u.begin(), div_u.end(), tmp.begin(), div_u.begin(), thrust::plus<double>());
-      }
-      detail::PressureMatrix<dim> pm{ptr(x), ptr(normal), ptr(kind), ptr(nl.offsets), ptr(nl.indices), ptr(surface),
-                                     ptr(A.laplacian), ptr(support), {}, box, W, 1.0 / settings.rho0, neumann, pinned,
-                                     ptr(values)};
-      for (int d = 0; d < dim; ++d)
-        pm.grad[d] = ptr(A.gradient[d]);
-      thrust::for_each(exec, first, last, pm);
-      regularise_confined_pressure_matrix(); // confined flows only
-      detail::PressureRhs<dim> pr{ptr(x), ptr(wall_acceleration), ptr(kind), ptr(nl.offsets), ptr(nl.indices),
-                                  ptr(surface), ptr(div_u), ptr(rho), ptr(support), box, W, dt, settings.rho0,
-                                  settings.alpha, {}, neumann, pinned, ptr(rhs),
-                                  std::max(dt, settings.density_relaxation_time)};
-      for (int d = 0; d < dim; ++d)
-        pr.g[d] = settings.gravity[d];
-      thrust::for_each(exec, first, last, pr);
-      make_confined_rhs_compatible();        // confined flows only
-      if (settings.pressure_preconditioner == PressurePreconditioner::multigrid)
-      {
-        multigrid.setup(x, box, 2.0 * settings.h, nl.offsets, nl.indices, values);
-        report.pressure = bicgstab(nl.offsets, nl.indices, values, rhs, pressure, settings.pressure_solver, multigrid);
-      }
-      else
-        report.pressure = bicgstab(nl.offsets, nl.indices, values, rhs, pressure, settings.pressure_solver);
-      remove_confined_pressure_level(); // confined flows only
-      {
-        const int interior = thrust::transform_reduce(exec, first, last, detail::InteriorFluid{ptr(kind), ptr(surface)},
-                                                      0, thrust::plus<int>());
-        const double sum2 = thrust::transform_reduce(
-          exec, first, last,
-          detail::PressureNoise<dim>{ptr(x), ptr(kind), ptr(surface), ptr(nl.offsets), ptr(nl.indices), ptr(pressure),
-                                     ptr(V), box, W},
-          0.0, thrust::plus<double>());
-        report.pressure_noise = interior > 0 ? std::sqrt(sum2 / interior) : 0.0;
-      }
-      report.t_pressure = clock.lap();
-
-      // 4. correction, Eq. 58, and position update
-      detail::CorrectAndMove<dim> cm{ptr(kind), {}, ptr(wall_velocity), box, dt, 1.0 / settings.rho0, 0.25 * settings.spacing,
-                                     ptr(x), ptr(u)};
-      cm.open_face = settings.open_face;
-      for (int d = 0; d < dim; ++d)
-      {
-        spmv(nl.offsets, nl.indices, A.gradient[d], pressure, grad_p[d]);
-        cm.grad_p[d] = ptr(grad_p[d]);
-      }
-      if (!settings.consistent)
-      {
-        detail::PairwisePressureGradient<dim> pg{ptr(kind), ptr(nl.offsets), ptr(nl.indices), {}, ptr(pressure), {}};
-        for (int d = 0; d < dim; ++d)
-          pg.grad[d] = ptr(A.gradient[d]), pg.grad_p[d] = ptr(grad_p[d]);
-        thrust::for_each(exec, first, last, pg);
-      }
-      compute_solid_forces(dt); // needs u*, p^{n+1}, ∇p and the step's positions: before the move
-      if (settings.shifting > 0)
-        thrust::copy(exec, x.begin(), x.end(), x_start.begin());
-      thrust::for_each(exec, first, last, cm);
-      if (settings.shifting > 0)
-        thrust::for_each(exec, first, last,
-                         detail::ShiftingDisplacement<dim>{ptr(x_start), ptr(u), ptr(kind), ptr(nl.offsets),
-                                                           ptr(nl.indices), ptr(surface), ptr(V), box, W,
-                                                           settings.shifting, dt, 0.1 * settings.spacing, ptr(x),
-                                                           settings.shifting_velocity_floor});
+      solve_pressure(dt);
+      report.pressure_noise = pressure_noise();
+      report.t_pressure     = clock.lap();
+      correct_and_move(dt);
       report.max_speed = max_fluid_speed();
       report.t_update  = clock.lap();
       return report;
@@ -290,7 +184,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     double max_fluid_speed() const override
     {
       const thrust::counting_iterator<int> first(0);
-      return thrust::transform_reduce(exec, first, first + n, detail::FluidSpeed<dim>{ptr(u), ptr(kind)}, 0.0,
+      return thrust::transform_reduce(exec, first, first + n, detail::FluidSpeed<dim>{particles()}, 0.0,
                                       thrust::maximum<double>());
     }
 
@@ -322,6 +216,244 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     }
 
   private:
+    /// Algorithm 2, step 1: volumes (Eq. 17), summation density, the BCE markers' fluid
+    /// support (Eq. 60–65) and the free-surface particles.
+    void compute_density_and_free_surface()
+    {
+      compute_volumes<dim>(x, nl, box, W, V);
+      detail::DensityAndSupport<dim> f;
+      f.p                    = particles();
+      f.nb                   = neighbors(x);
+      f.m0                   = m0;
+      f.rho0                 = settings.rho0;
+      f.ratio                = settings.free_surface_ratio;
+      f.divergence_threshold = settings.free_surface_divergence;
+      f.min_neighbours       = settings.free_surface_min_neighbours;
+      f.free_surface         = settings.free_surface;
+      f.rho                  = ptr(rho);
+      f.support              = ptr(support);
+      f.surface              = ptr(surface);
+      thrust::for_each(exec, thrust::counting_iterator<int>(0), thrust::counting_iterator<int>(n), f);
+      report.free_surface_particles = thrust::reduce(exec, surface.begin(), surface.end(), 0);
+    }
+
+    /// Algorithm 2, step 1: the corrections G, L (Eq. 24–26), the operators A^G, A^L and the
+    /// matrix of the velocity system (Eq. 56, 62–63), shared by its components.
+    void assemble_operators_and_velocity_matrix(const double dt)
+    {
+      if (settings.consistent)
+        report.correction_fallbacks = compute_corrections<dim>(x, V, nl, box, W, G, L, settings.correction_checks);
+      assemble_operators<dim>(x, V, nl, box, W, settings.consistent ? OperatorKind::consistent : OperatorKind::standard,
+                              G, L, A);
+      values.resize(nl.n_entries());
+      detail::VelocityMatrix<dim> m;
+      m.p       = particles();
+      m.nb      = neighbors(x);
+      m.A       = operators();
+      m.inv_dt  = 1.0 / dt;
+      m.half_nu = 0.5 * (settings.mu / settings.rho0);
+      m.values  = ptr(values);
+      thrust::for_each(exec, thrust::counting_iterator<int>(0), thrust::counting_iterator<int>(n), m);
+    }
+
+    /// Algorithm 2, step 2: velocity prediction u*, Eq. 56, one solve per component with the
+    /// same matrix. First the fluid velocity at t^n extrapolated to the markers (the approach
+    /// velocity of ContinuityVelocity).
+    void predict_velocity(const double dt)
+    {
+      const thrust::counting_iterator<int> first(0), last(n);
+      u_approach.resize(n);
+      detail::ExtrapolateToMarkers<dim> extrapolate;
+      extrapolate.p   = particles();
+      extrapolate.nb  = neighbors(x);
+      extrapolate.out = ptr(u_approach);
+      thrust::for_each(exec, first, last, extrapolate);
+      detail::VelocityRhs<dim> r;
+      r.p       = particles();
+      r.lap_u   = ptr(tmp);
+      r.inv_dt  = 1.0 / dt;
+      r.half_nu = 0.5 * (settings.mu / settings.rho0);
+      r.rhs     = ptr(rhs);
+      for (int c = 0; c < dim; ++c)
+      {
+        thrust::transform(exec, u.begin(), u.end(), comp.begin(), detail::ExtractComponent<dim>{c});
+        spmv(nl.offsets, nl.indices, A.laplacian, comp, tmp);
+        r.c = c;
+        r.f = settings.acceleration[c];
+        thrust::for_each(exec, first, last, r);
+        report.velocity[c] = bicgstab(nl.offsets, nl.indices, values, rhs, comp, settings.velocity_solver);
+        thrust::for_each(exec, first, last, detail::SetComponent<dim>{ptr(comp), ptr(u), c});
+      }
+    }
+
+    /// ∇·u* (Eq. 41) of the continuity velocity (ContinuityVelocity; Neumann walls: u*).
+    void compute_velocity_divergence()
+    {
+      u_cont.resize(n);
+      if (settings.pressure_wall == PressureWall::neumann)
+        thrust::copy(exec, u.begin(), u.end(), u_cont.begin()); // Chorin: mirrored wall velocity, ∂p/∂n = 0
+      else
+      {
+        detail::ContinuityVelocity<dim> cont;
+        cont.p        = particles();
+        cont.approach = ptr(u_approach);
+        cont.out      = ptr(u_cont);
+        thrust::for_each(exec, thrust::counting_iterator<int>(0), thrust::counting_iterator<int>(n), cont);
+      }
+      thrust::fill(exec, div_u.begin(), div_u.end(), 0.0);
+      for (int c = 0; c < dim; ++c)
+      {
+        thrust::transform(exec, u_cont.begin(), u_cont.end(), comp.begin(), detail::ExtractComponent<dim>{c});
+        spmv(nl.offsets, nl.indices, A.gradient[c], comp, tmp);
+        thrust::transform(exec, div_u.begin(), div_u.end(), tmp.begin(), div_u.begin(), thrust::plus<double>());
+      }
+    }
+
+    /// Algorithm 2, step 3: the pressure Poisson equation, Eq. 53/55/57 for fluid, p = 0 on
+    /// the free surface, Eq. 64–65 or 66–67 for the BCE markers; confined flows made solvable.
+    void solve_pressure(const double dt)
+    {
+      compute_velocity_divergence();
+      const thrust::counting_iterator<int> first(0), last(n);
+      const bool                           neumann = settings.pressure_wall == PressureWall::neumann;
+      detail::PressureMatrix<dim>          m;
+      m.p        = particles();
+      m.nb       = neighbors(x);
+      m.A        = operators();
+      m.inv_rho0 = 1.0 / settings.rho0;
+      m.neumann  = neumann;
+      m.pinned   = pinned;
+      m.values   = ptr(values);
+      thrust::for_each(exec, first, last, m);
+      regularise_confined_pressure_matrix(); // confined flows only
+      detail::PressureRhs<dim> r;
+      r.p     = particles();
+      r.nb    = neighbors(x);
+      r.div_u = ptr(div_u);
+      r.dt    = dt;
+      r.rho0  = settings.rho0;
+      r.alpha = settings.alpha;
+      for (int d = 0; d < dim; ++d)
+        r.g[d] = settings.gravity[d];
+      r.relaxation_time = std::max(dt, settings.density_relaxation_time);
+      r.neumann         = neumann;
+      r.pinned          = pinned;
+      r.rhs             = ptr(rhs);
+      thrust::for_each(exec, first, last, r);
+      make_confined_rhs_compatible(); // confined flows only
+      if (settings.pressure_preconditioner == PressurePreconditioner::multigrid)
+      {
+        multigrid.setup(x, box, 2.0 * settings.h, nl.offsets, nl.indices, values);
+        report.pressure = bicgstab(nl.offsets, nl.indices, values, rhs, pressure, settings.pressure_solver, multigrid);
+      }
+      else
+        report.pressure = bicgstab(nl.offsets, nl.indices, values, rhs, pressure, settings.pressure_solver);
+      remove_confined_pressure_level(); // confined flows only
+    }
+
+    /// Diagnostics: RMS of p_i minus its Shepard average over the interior fluid particles.
+    double pressure_noise() const
+    {
+      const thrust::counting_iterator<int> first(0), last(n);
+      const int interior = thrust::transform_reduce(exec, first, last, detail::InteriorFluid<dim>{particles()}, 0,
+                                                    thrust::plus<int>());
+      detail::PressureNoise<dim> noise;
+      noise.p           = particles();
+      noise.nb          = neighbors(x);
+      const double sum2 = thrust::transform_reduce(exec, first, last, noise, 0.0, thrust::plus<double>());
+      return interior > 0 ? std::sqrt(sum2 / interior) : 0.0;
+    }
+
+    /// Algorithm 2, step 4: ∇p^{n+1}, the forces on the solids, the correction u^{n+1} = u* −
+    /// Δt/ρ0 ∇p (Eq. 58), the position update and particle shifting.
+    void correct_and_move(const double dt)
+    {
+      const thrust::counting_iterator<int> first(0), last(n);
+      for (int d = 0; d < dim; ++d)
+        spmv(nl.offsets, nl.indices, A.gradient[d], pressure, grad_p[d]);
+      if (!settings.consistent)
+      {
+        detail::PairwisePressureGradient<dim> pg;
+        pg.p  = particles();
+        pg.nb = neighbors(x);
+        pg.A  = operators();
+        for (int d = 0; d < dim; ++d)
+          pg.grad_p[d] = ptr(grad_p[d]);
+        thrust::for_each(exec, first, last, pg);
+      }
+      compute_solid_forces(dt); // needs u*, p^{n+1}, ∇p and the step's positions: before the move
+      if (settings.shifting > 0)
+        thrust::copy(exec, x.begin(), x.end(), x_start.begin());
+      detail::CorrectAndMove<dim> cm;
+      cm.p         = particles();
+      cm.grad_p    = components(grad_p);
+      cm.box       = box;
+      cm.dt        = dt;
+      cm.inv_rho0  = 1.0 / settings.rho0;
+      cm.margin    = 0.25 * settings.spacing;
+      cm.open_face = settings.open_face;
+      cm.x         = ptr(x);
+      cm.u         = ptr(u);
+      thrust::for_each(exec, first, last, cm);
+      if (settings.shifting > 0)
+        shift_particles(dt);
+    }
+
+    /// Fickian particle shifting (ShiftingDisplacement) from the step's start positions.
+    void shift_particles(const double dt)
+    {
+      detail::ShiftingDisplacement<dim> shift;
+      shift.p           = particles();
+      shift.nb          = neighbors(x_start);
+      shift.coefficient = settings.shifting;
+      shift.dt          = dt;
+      shift.max_shift   = 0.1 * settings.spacing;
+      shift.u_min       = settings.shifting_velocity_floor;
+      shift.x           = ptr(x);
+      thrust::for_each(exec, thrust::counting_iterator<int>(0), thrust::counting_iterator<int>(n), shift);
+    }
+
+    /// The particle state as the kernels read it.
+    ParticleView<dim> particles() const
+    {
+      ParticleView<dim> p;
+      p.x                 = ptr(x);
+      p.u                 = ptr(u);
+      p.kind              = ptr(kind);
+      p.surface           = ptr(surface);
+      p.body              = body.empty() ? nullptr : ptr(body);
+      p.V                 = ptr(V);
+      p.rho               = ptr(rho);
+      p.support           = ptr(support);
+      p.pressure          = ptr(pressure);
+      p.wall_velocity     = ptr(wall_velocity);
+      p.wall_acceleration = ptr(wall_acceleration);
+      p.normal            = ptr(normal);
+      return p;
+    }
+
+    /// The step's neighbour list with the positions it was built for.
+    NeighborView<dim> neighbors(const dvec<Vec<dim>> &positions) const
+    {
+      return neighbor_view(positions, nl, box, W);
+    }
+
+    OperatorView<dim> operators() const
+    {
+      OperatorView<dim> view;
+      view.gradient  = components(A.gradient);
+      view.laplacian = ptr(A.laplacian);
+      return view;
+    }
+
+    static Components<dim> components(const dvec<double> (&f)[dim])
+    {
+      Components<dim> c;
+      for (int d = 0; d < dim; ++d)
+        c.c[d] = ptr(f[d]);
+      return c;
+    }
+
     /// A confined flow (no free surface) has a pure-Neumann pressure problem, solvable only
     /// if Σ_F V_i rhs_i = 0; the one-sided density term of Eq. 55 and the non-symmetric
     /// operators break that, and pinning one particle then turns the defect into a point
@@ -332,7 +464,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       if (settings.free_surface)
         return;
       const thrust::counting_iterator<int> first(0), last(n);
-      thrust::for_each(exec, first, last, detail::ShiftConfinedFluidRows{ptr(kind), pinned, fluid_mean(rhs), ptr(rhs)});
+      thrust::for_each(exec, first, last, detail::ShiftConfinedFluidRows<dim>{particles(), pinned, fluid_mean(rhs), ptr(rhs)});
     }
 
     /// Σ_F V_i f_i / Σ_F V_i over the fluid particles (not the pin); 0 without fluid.
@@ -340,9 +472,9 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     {
       const thrust::counting_iterator<int> first(0), last(n);
       const double volume = thrust::transform_reduce(
-        exec, first, last, detail::ConfinedFluidRowWeight{ptr(kind), ptr(V), nullptr, pinned}, 0.0, thrust::plus<double>());
+        exec, first, last, detail::ConfinedFluidRowWeight<dim>{particles(), nullptr, pinned}, 0.0, thrust::plus<double>());
       const double integral = thrust::transform_reduce(
-        exec, first, last, detail::ConfinedFluidRowWeight{ptr(kind), ptr(V), ptr(f), pinned}, 0.0, thrust::plus<double>());
+        exec, first, last, detail::ConfinedFluidRowWeight<dim>{particles(), ptr(f), pinned}, 0.0, thrust::plus<double>());
       return volume > 0 ? integral / volume : 0.0;
     }
 
@@ -368,10 +500,12 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     {
       if (settings.free_surface)
         return;
-      const thrust::counting_iterator<int> first(0), last(n);
-      thrust::for_each(exec, first, last,
-                       detail::ShiftFluidDiagonal{ptr(kind), ptr(nl.offsets), ptr(nl.indices),
-                                                  1e-6 / (settings.rho0 * settings.h * settings.h), ptr(values)});
+      detail::ShiftFluidDiagonal<dim> shift;
+      shift.p       = particles();
+      shift.nb      = neighbors(x);
+      shift.epsilon = 1e-6 / (settings.rho0 * settings.h * settings.h);
+      shift.values  = ptr(values);
+      thrust::for_each(exec, thrust::counting_iterator<int>(0), thrust::counting_iterator<int>(n), shift);
     }
 
     void setup_solids(const HostParticles<dim> &p)
@@ -391,29 +525,28 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     void compute_solid_forces(const double dt)
     {
       const thrust::counting_iterator<int> first(0), last(n);
-      const int *body_ptr = body.empty() ? nullptr : ptr(body);
+      const ParticleView<dim>              state = particles();
       for (int b = 0; b < solids; ++b)
       {
-        const int wetted = thrust::transform_reduce(
-          exec, first, last, detail::IsSolidMarkerWithFluid<dim>{ptr(kind), body_ptr, ptr(support), b}, 0,
-          thrust::plus<int>());
-        const double p_sum = thrust::transform_reduce(
-          exec, first, last, detail::SolidMarkerPressure<dim>{ptr(kind), body_ptr, ptr(pressure), ptr(support), b}, 0.0,
-          thrust::plus<double>());
+        const int wetted = thrust::transform_reduce(exec, first, last, detail::IsSolidMarkerWithFluid<dim>{state, b}, 0,
+                                                    thrust::plus<int>());
+        const double p_sum = thrust::transform_reduce(exec, first, last, detail::SolidMarkerPressure<dim>{state, b},
+                                                      0.0, thrust::plus<double>());
         // p̄_s removes the discrete error of the pressure level over a closed wetted surface (its
         // exact integral is zero there): for confined flows (arbitrary level) and bodies fully
         // under water. A body that pierces the free surface (a marker sees a p = 0 particle) has an
         // open wetted surface on which the absolute level acts: no reference then.
         const int pierces = thrust::transform_reduce(
-          exec, first, last,
-          detail::MarkerMeetsFreeSurface<dim>{ptr(kind), body_ptr, ptr(nl.offsets), ptr(nl.indices), ptr(surface), b}, 0,
-          thrust::plus<int>());
-        const double p_ref = pierces > 0 || wetted == 0 ? 0.0 : p_sum / wetted;
-        detail::SolidForce<dim> sf{ptr(x), ptr(u), ptr(wall_velocity), ptr(kind), body_ptr, ptr(nl.offsets),
-                                   ptr(nl.indices), ptr(V), ptr(pressure), ptr(support), {}, box, W, settings.mu, dt,
-                                   1.0 / settings.rho0, p_ref, b};
-        for (int d = 0; d < dim; ++d)
-          sf.grad_p[d] = ptr(grad_p[d]);
+          exec, first, last, detail::MarkerMeetsFreeSurface<dim>{state, neighbors(x), b}, 0, thrust::plus<int>());
+        detail::SolidForce<dim> sf;
+        sf.p        = state;
+        sf.nb       = neighbors(x);
+        sf.grad_p   = components(grad_p);
+        sf.mu       = settings.mu;
+        sf.dt       = dt;
+        sf.inv_rho0 = 1.0 / settings.rho0;
+        sf.p_ref    = pierces > 0 || wetted == 0 ? 0.0 : p_sum / wetted;
+        sf.target   = b;
         const Vec<dim> F = thrust::transform_reduce(exec, first, last, sf, Vec<dim>::zero(), detail::VecPlus<dim>());
         forces[b] = {{0, 0, 0}};
         for (int d = 0; d < dim; ++d)

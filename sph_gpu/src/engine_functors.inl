@@ -1,10 +1,10 @@
 // Per-particle functors of Algorithm 2 (velocity prediction, pressure Poisson, correction).
-// Part of the single kernel source: included by engine.inl for both backends.
+// Part of the single kernel source: included by engine.inl for both backends. Each functor
+// reads the particle state through a ParticleView `p` and its neighbours through a
+// NeighborView `nb` (kernel_views.h); the engine assigns those and the named scalars.
 #pragma once
 #include <twinflow_sph/backend.h>
-#include <twinflow_sph/domain.h>
-#include <twinflow_sph/engine.h>
-#include <twinflow_sph/kernel.h>
+#include <twinflow_sph/kernel_views.h>
 
 namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
 {
@@ -13,39 +13,34 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
   template <int dim>
   struct DensityAndSupport
   {
-    const Vec<dim> *x;
-    const int      *kind, *offsets, *indices;
-    DomainBox<dim>  box;
-    CubicSpline<dim> W;
-    const double   *V;
-    double          m0, rho0, ratio, divergence_threshold;
-    double          min_neighbours; ///< fewer neighbours (all kinds, itself included): free surface
-    bool            free_surface;
-    double         *rho, *support;
-    int            *surface;
+    ParticleView<dim> p; ///< kind, V
+    NeighborView<dim> nb;
+    double            m0 = 0, rho0 = 0;
+    double            ratio                = 0; ///< ρ_i < ratio ρ0: free surface
+    double            divergence_threshold = 0; ///< ∇·r_i below this: free surface
+    double            min_neighbours = 0; ///< fewer neighbours (all kinds, itself included): free surface
+    bool              free_surface   = true;
+    double           *rho = nullptr, *support = nullptr;
+    int              *surface = nullptr;
     TWINFLOW_HD void operator()(int i) const
     {
       double sum = 0, fluid_sum = 0, div_r = 0;
-      for (int k = offsets[i]; k < offsets[i + 1]; ++k)
-      {
-        const int      j = indices[k];
-        const Vec<dim> r = box.difference(x[i], x[j]);
-        const double   w = W.value(geometry::norm(r));
+      for_each_neighbor(nb, i, [&](const int j, int, const Vec<dim> &r) {
+        const double w = nb.w(r);
         sum += w;
-        if (kind[j] == ParticleKind::fluid && j != i)
+        if (p.fluid(j) && j != i)
           fluid_sum += w;
         if (j != i)
-          div_r -= V[j] * geometry::dot(r, W.gradient(r));
-      }
+          div_r -= p.V[j] * geometry::dot(r, nb.grad_w(r));
+      });
       rho[i]     = m0 * sum;
       support[i] = fluid_sum;
       // Free surface: a density deficit, or (where BCE markers fill the density up, e.g. where
       // the surface meets a wall) a position divergence ∇·r = −Σ V_j r_ij·∇W_ij (= dim in a full
       // support) below the threshold (Lind et al. 2012), or a sparse neighbourhood (spray
       // clusters, whose compression hides the density deficit).
-      surface[i] = (kind[i] == ParticleKind::fluid && free_surface &&
-                    (rho[i] < ratio * rho0 || div_r < divergence_threshold ||
-                     offsets[i + 1] - offsets[i] < min_neighbours)) ? 1 : 0;
+      surface[i] = (p.fluid(i) && free_surface &&
+                    (rho[i] < ratio * rho0 || div_r < divergence_threshold || nb.count(i) < min_neighbours)) ? 1 : 0;
     }
   };
 
@@ -53,26 +48,21 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
   template <int dim>
   struct VelocityMatrix
   {
-    const Vec<dim> *x;
-    const int      *kind, *offsets, *indices;
-    const double   *lap, *support;
-    DomainBox<dim>  box;
-    CubicSpline<dim> W;
-    double          inv_dt, half_nu;
-    double         *values;
+    ParticleView<dim> p; ///< kind, support
+    NeighborView<dim> nb;
+    OperatorView<dim> A; ///< A^L
+    double            inv_dt = 0, half_nu = 0;
+    double           *values = nullptr;
     TWINFLOW_HD void operator()(int i) const
     {
-      for (int k = offsets[i]; k < offsets[i + 1]; ++k)
-      {
-        const int j = indices[k];
-        if (kind[i] == ParticleKind::fluid)
-          values[k] = (j == i ? inv_dt : 0.0) - half_nu * lap[k];
-        else if (support[i] > 0)
-          values[k] = j == i ? support[i]
-                      : (kind[j] == ParticleKind::fluid ? W.value(geometry::norm(box.difference(x[i], x[j]))) : 0.0);
+      for_each_neighbor(nb, i, [&](const int j, const int k, const Vec<dim> &r) {
+        if (p.fluid(i))
+          values[k] = (j == i ? inv_dt : 0.0) - half_nu * A.laplacian[k];
+        else if (p.support[i] > 0)
+          values[k] = j == i ? p.support[i] : (p.fluid(j) ? nb.w(r) : 0.0);
         else
           values[k] = j == i ? 1.0 : 0.0;
-      }
+      });
     }
   };
 
@@ -80,18 +70,18 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
   template <int dim>
   struct VelocityRhs
   {
-    const int      *kind;
-    const double   *lap_u, *support; ///< (A^L u^n_c)_i
-    const Vec<dim> *u, *wall_velocity;
-    int             c;
-    double          inv_dt, half_nu, f;
-    double         *rhs;
+    ParticleView<dim> p;               ///< kind, support, u, wall_velocity
+    const double     *lap_u = nullptr; ///< (A^L u^n_c)_i
+    int               c     = 0;
+    double            inv_dt = 0, half_nu = 0;
+    double            f = 0; ///< component c of the body force per unit mass
+    double           *rhs = nullptr;
     TWINFLOW_HD void operator()(int i) const
     {
-      if (kind[i] == ParticleKind::fluid)
-        rhs[i] = inv_dt * u[i][c] + half_nu * lap_u[i] + f;
+      if (p.fluid(i))
+        rhs[i] = inv_dt * p.u[i][c] + half_nu * lap_u[i] + f;
       else
-        rhs[i] = support[i] > 0 ? 2.0 * wall_velocity[i][c] * support[i] : wall_velocity[i][c];
+        rhs[i] = p.support[i] > 0 ? 2.0 * p.wall_velocity[i][c] * p.support[i] : p.wall_velocity[i][c];
     }
   };
 
@@ -99,46 +89,42 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
   template <int dim>
   struct PressureMatrix
   {
-    const Vec<dim> *x, *normal;
-    const int      *kind, *offsets, *indices, *surface;
-    const double   *lap, *support, *grad[dim];
-    DomainBox<dim>  box;
-    CubicSpline<dim> W;
-    double          inv_rho0;
-    bool            neumann;
-    int             pinned;   ///< particle whose pressure is fixed to 0 (confined flows), or −1
-    double         *values;
+    ParticleView<dim> p; ///< kind, surface, support, normal
+    NeighborView<dim> nb;
+    OperatorView<dim> A;
+    double            inv_rho0 = 0;
+    bool              neumann  = false;
+    int               pinned   = -1; ///< particle whose pressure is fixed to 0 (confined flows), or −1
+    double           *values   = nullptr;
     TWINFLOW_HD void operator()(int i) const
     {
-      const bool identity = (kind[i] == ParticleKind::fluid && (surface[i] || i == pinned)) ||
-                            (kind[i] != ParticleKind::fluid && support[i] <= 0);
-      double diag_neumann = 0;
-      for (int k = offsets[i]; k < offsets[i + 1]; ++k)
-      {
-        const int j = indices[k];
-        double    v = 0;
+      const bool identity = (p.fluid(i) && (p.surface[i] || i == pinned)) || (!p.fluid(i) && p.support[i] <= 0);
+      double     diag_neumann = 0;
+      for_each_neighbor(nb, i, [&](const int j, const int k, const Vec<dim> &r) {
+        double v = 0;
         if (identity)
           v = j == i ? 1.0 : 0.0;
-        else if (kind[i] == ParticleKind::fluid)
-          v = inv_rho0 * lap[k];
+        else if (p.fluid(i))
+          v = inv_rho0 * A.laplacian[k];
         else if (!neumann)
-          v = j == i ? support[i]
-                     : (kind[j] == ParticleKind::fluid ? -W.value(geometry::norm(box.difference(x[i], x[j]))) : 0.0);
-        else if (kind[j] == ParticleKind::fluid && j != i)
+          v = j == i ? p.support[i] : (p.fluid(j) ? -nb.w(r) : 0.0);
+        else if (p.fluid(j) && j != i)
         {
           // n_a · ∇p_a restricted to fluid neighbours: Σ_b (A^G_ab·n_a)(p_b − p_a) = 0
           double gn = 0;
           for (int d = 0; d < dim; ++d)
-            gn += grad[d][k] * normal[i][d];
+            gn += A.gradient[d][k] * p.normal[i][d];
           v = gn;
           diag_neumann -= gn;
         }
         values[k] = v;
+      });
+      if (!identity && !p.fluid(i) && neumann)
+      {
+        const int kii = diagonal_entry(nb, i);
+        if (kii >= 0)
+          values[kii] = diag_neumann != 0 ? diag_neumann : 1.0;
       }
-      if (!identity && kind[i] != ParticleKind::fluid && neumann)
-        for (int k = offsets[i]; k < offsets[i + 1]; ++k)
-          if (indices[k] == i)
-            values[k] = diag_neumann != 0 ? diag_neumann : 1.0;
     }
   };
 
@@ -146,21 +132,19 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
   template <int dim>
   struct PressureRhs
   {
-    const Vec<dim> *x, *wall_acceleration;
-    const int      *kind, *offsets, *indices, *surface;
-    const double   *div_u, *rho, *support;
-    DomainBox<dim>  box;
-    CubicSpline<dim> W;
-    double          dt, rho0, alpha, g[dim];
-    bool            neumann;
-    int             pinned;
-    double         *rhs;
-    double          relaxation_time; ///< time over which the density error is removed (≥ dt)
+    ParticleView<dim> p; ///< kind, surface, rho, support, wall_acceleration
+    NeighborView<dim> nb;
+    const double     *div_u = nullptr;
+    double            dt = 0, rho0 = 0, alpha = 0, g[dim] = {};
+    double            relaxation_time = 0; ///< time over which the density error is removed (≥ dt)
+    bool              neumann         = false;
+    int               pinned          = -1;
+    double           *rhs             = nullptr;
     TWINFLOW_HD void operator()(int i) const
     {
-      if (kind[i] == ParticleKind::fluid)
+      if (p.fluid(i))
       {
-        if (surface[i] || i == pinned)
+        if (p.surface[i] || i == pinned)
         {
           rhs[i] = 0;
           return;
@@ -169,28 +153,25 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
         // against the rest density (Asai et al. 2012) — with ρ^n itself it would equal the
         // divergence term exactly. Only compression (ρ* > ρ0) is corrected: summation
         // densities below ρ0 near a free surface are a kernel deficit, not an expansion.
-        const double rho_star = rho[i] - dt * rho[i] * div_u[i];
+        const double rho_star = p.rho[i] - dt * p.rho[i] * div_u[i];
         const double deficit  = rho0 - rho_star < 0.0 ? rho0 - rho_star : 0.0;
         // The density error is removed over relaxation_time (Δt in Eq. 55 as written: ρ0/Δt²).
         rhs[i] = alpha * deficit / (rho0 * dt * relaxation_time) + (1.0 - alpha) * div_u[i] / dt;
         return;
       }
-      if (support[i] <= 0 || neumann)
+      if (p.support[i] <= 0 || neumann)
       {
         rhs[i] = 0;
         return;
       }
       double s = 0; // (g − a^p)·Σ_b ρ_b r_ab W_ab, Eq. 64
-      for (int k = offsets[i]; k < offsets[i + 1]; ++k)
-      {
-        const int j = indices[k];
-        if (kind[j] != ParticleKind::fluid || j == i)
-          continue;
-        const Vec<dim> r = box.difference(x[i], x[j]);
-        const double   w = W.value(geometry::norm(r));
+      for_each_neighbor(nb, i, [&](const int j, int, const Vec<dim> &r) {
+        if (!p.fluid(j) || j == i)
+          return;
+        const double w = nb.w(r);
         for (int d = 0; d < dim; ++d)
-          s += (g[d] - wall_acceleration[i][d]) * rho[j] * r[d] * w;
-      }
+          s += (g[d] - p.wall_acceleration[i][d]) * p.rho[j] * r[d] * w;
+      });
       rhs[i] = s;
     }
   };
@@ -207,17 +188,16 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
   template <int dim>
   struct PairwisePressureGradient
   {
-    const int    *kind, *offsets, *indices;
-    const double *grad[dim], *pressure;
-    double       *grad_p[dim];
+    ParticleView<dim> p; ///< kind, pressure
+    NeighborView<dim> nb;
+    OperatorView<dim> A;
+    double           *grad_p[dim] = {};
     TWINFLOW_HD void operator()(int i) const
     {
-      if (kind[i] != ParticleKind::fluid)
-        return;
-      for (int k = offsets[i]; k < offsets[i + 1]; ++k)
-        if (indices[k] == i)
-          for (int d = 0; d < dim; ++d)
-            grad_p[d][i] -= 2.0 * pressure[i] * grad[d][k];
+      const int kii = p.fluid(i) ? diagonal_entry(nb, i) : -1;
+      if (kii >= 0)
+        for (int d = 0; d < dim; ++d)
+          grad_p[d][i] -= 2.0 * p.pressure[i] * A.gradient[d][kii];
     }
   };
 
@@ -225,18 +205,17 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
   template <int dim>
   struct CorrectAndMove
   {
-    const int    *kind;
-    const double *grad_p[dim];
-    const Vec<dim> *wall_velocity;
-    DomainBox<dim> box;
-    double        dt, inv_rho0, margin;
-    Vec<dim>     *x, *u;
-    int           open_face = -1; ///< EngineSettings::open_face: no wall there, nothing to keep out of
+    ParticleView<dim> p; ///< kind, wall_velocity
+    Components<dim>   grad_p;
+    DomainBox<dim>    box;
+    double            dt = 0, inv_rho0 = 0, margin = 0;
+    int               open_face = -1; ///< EngineSettings::open_face: no wall there, nothing to keep out of
+    Vec<dim>         *x = nullptr, *u = nullptr;
     TWINFLOW_HD void operator()(int i) const
     {
-      if (kind[i] != ParticleKind::fluid)
+      if (!p.fluid(i))
       {
-        u[i] = wall_velocity[i];
+        u[i] = p.wall_velocity[i];
         return;
       }
       for (int d = 0; d < dim; ++d)
@@ -269,31 +248,26 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
   template <int dim>
   struct ExtrapolateToMarkers
   {
-    const Vec<dim> *x, *u;
-    const int      *kind, *offsets, *indices;
-    const double   *support;
-    DomainBox<dim>  box;
-    CubicSpline<dim> W;
-    Vec<dim>       *out;
+    ParticleView<dim> p; ///< kind, support, u
+    NeighborView<dim> nb;
+    Vec<dim>         *out = nullptr;
     TWINFLOW_HD void operator()(int i) const
     {
-      if (kind[i] == ParticleKind::fluid || support[i] <= 0)
+      if (p.fluid(i) || p.support[i] <= 0)
       {
-        out[i] = u[i];
+        out[i] = p.u[i];
         return;
       }
       Vec<dim> s = Vec<dim>::zero();
-      for (int k = offsets[i]; k < offsets[i + 1]; ++k)
-      {
-        const int j = indices[k];
-        if (kind[j] != ParticleKind::fluid || j == i)
-          continue;
-        const double w = W.value(geometry::norm(box.difference(x[i], x[j])));
+      for_each_neighbor(nb, i, [&](const int j, int, const Vec<dim> &r) {
+        if (!p.fluid(j) || j == i)
+          return;
+        const double w = nb.w(r);
         for (int d = 0; d < dim; ++d)
-          s[d] += w * u[j][d];
-      }
+          s[d] += w * p.u[j][d];
+      });
       for (int d = 0; d < dim; ++d)
-        out[i][d] = s[d] / support[i];
+        out[i][d] = s[d] / p.support[i];
     }
   };
 
@@ -306,29 +280,28 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
   template <int dim>
   struct ContinuityVelocity
   {
-    const int      *kind;
-    const double   *support;
-    const Vec<dim> *u, *wall_velocity, *approach, *normal;
-    Vec<dim>       *out;
+    ParticleView<dim> p;                  ///< kind, support, u, wall_velocity, normal
+    const Vec<dim>   *approach = nullptr; ///< ũ^n (ExtrapolateToMarkers of u^n)
+    Vec<dim>         *out      = nullptr;
     TWINFLOW_HD void operator()(int i) const
     {
-      if (kind[i] == ParticleKind::fluid)
-        out[i] = u[i];
-      else if (support[i] > 0)
+      if (p.fluid(i))
+        out[i] = p.u[i];
+      else if (p.support[i] > 0)
       {
         double un = 0, nn = 0;
         for (int d = 0; d < dim; ++d)
         {
-          un += (approach[i][d] - wall_velocity[i][d]) * normal[i][d];
-          nn += normal[i][d] * normal[i][d];
+          un += (approach[i][d] - p.wall_velocity[i][d]) * p.normal[i][d];
+          nn += p.normal[i][d] * p.normal[i][d];
         }
         un = nn > 0 ? un / nn : 0.0;
         const double toward = un < 0 ? un : 0.0; // only motion into the wall
         for (int d = 0; d < dim; ++d)
-          out[i][d] = 2.0 * wall_velocity[i][d] - u[i][d] - 2.0 * toward * normal[i][d];
+          out[i][d] = 2.0 * p.wall_velocity[i][d] - p.u[i][d] - 2.0 * toward * p.normal[i][d];
       }
       else
-        out[i] = wall_velocity[i];
+        out[i] = p.wall_velocity[i];
     }
   };
 
@@ -336,7 +309,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
   /// move by δr = −D ∇C, ∇C_i = Σ_j V_j ∇_i W_ij, D = A h |u_i| Δt (A = coefficient); it keeps
   /// the distribution near-isotropic, which the consistent operators need in violent flows.
   /// Free-surface particles are not shifted (their ∇C points out of the fluid). Positions are
-  /// taken at the start of the step (the neighbour lists are those of the step).
+  /// taken at the start of the step (the neighbour lists are those of the step: nb.x).
   /// With a velocity floor U_f > 0, D = A h max(|u_i|, U_f) Δt: shifting also acts at rest,
   /// where it damps the row-pairing mode of the consistent operators next to walls (doc/
   /// benchmarks.md, "Still water: the growing modes"); particles with a free-surface
@@ -345,34 +318,27 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
   template <int dim>
   struct ShiftingDisplacement
   {
-    const Vec<dim> *x0, *u;
-    const int      *kind, *offsets, *indices, *surface;
-    const double   *V;
-    DomainBox<dim>  box;
-    CubicSpline<dim> W;
-    double          coefficient, dt, max_shift;
-    Vec<dim>       *x;
-    double          u_min = 0; ///< velocity floor U_f
+    ParticleView<dim> p;  ///< kind, surface, V, u
+    NeighborView<dim> nb; ///< positions at the start of the step
+    double            coefficient = 0, dt = 0, max_shift = 0;
+    double            u_min = 0; ///< velocity floor U_f
+    Vec<dim>         *x     = nullptr;
     TWINFLOW_HD void operator()(int i) const
     {
-      if (kind[i] != ParticleKind::fluid || surface[i])
+      if (!p.fluid(i) || p.surface[i])
+        return;
+      if (u_min > 0 && any_neighbor(nb, i, [&](const int j) { return p.surface[j] && p.fluid(j); }))
         return;
       Vec<dim> gradC = Vec<dim>::zero();
-      for (int k = offsets[i]; k < offsets[i + 1]; ++k)
-      {
-        const int j = indices[k];
+      for_each_neighbor(nb, i, [&](const int j, int, const Vec<dim> &r) {
         if (j == i)
-          continue;
-        const Vec<dim> g = W.gradient(box.difference(x0[i], x0[j]));
+          return;
+        const Vec<dim> g = nb.grad_w(r);
         for (int d = 0; d < dim; ++d)
-          gradC[d] += V[j] * g[d];
-      }
-      if (u_min > 0)
-        for (int k = offsets[i]; k < offsets[i + 1]; ++k)
-          if (surface[indices[k]] && kind[indices[k]] == ParticleKind::fluid)
-            return;
-      const double un = geometry::norm(u[i]);
-      const double D = coefficient * W.h * (un > u_min ? un : u_min) * dt;
+          gradC[d] += p.V[j] * g[d];
+      });
+      const double un = geometry::norm(p.u[i]);
+      const double D  = coefficient * nb.W.h * (un > u_min ? un : u_min) * dt;
       Vec<dim>     dr;
       double       len = 0;
       for (int d = 0; d < dim; ++d)
@@ -380,11 +346,11 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
         dr[d] = -D * gradC[d];
         len += dr[d] * dr[d];
       }
-      len = sqrt(len);
+      len                = sqrt(len);
       const double scale = len > max_shift ? max_shift / len : 1.0;
       for (int d = 0; d < dim; ++d)
         x[i][d] += scale * dr[d];
-      x[i] = box.wrap(x[i]);
+      x[i] = nb.box.wrap(x[i]);
     }
   };
 
@@ -395,43 +361,38 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
   template <int dim>
   struct PressureNoise
   {
-    const Vec<dim> *x;
-    const int      *kind, *surface, *offsets, *indices;
-    const double   *pressure, *V;
-    DomainBox<dim>  box;
-    CubicSpline<dim> W;
+    ParticleView<dim> p; ///< kind, surface, pressure, V
+    NeighborView<dim> nb;
     TWINFLOW_HD double operator()(int i) const
     {
-      if (kind[i] != ParticleKind::fluid || surface[i])
+      if (!p.fluid(i) || p.surface[i])
         return 0.0;
       double num = 0, den = 0;
-      for (int k = offsets[i]; k < offsets[i + 1]; ++k)
-      {
-        const int j = indices[k];
-        if (kind[j] != ParticleKind::fluid)
-          continue;
-        const double w = V[j] * W.value(geometry::norm(box.difference(x[i], x[j])));
-        num += w * pressure[j];
+      for_each_neighbor(nb, i, [&](const int j, int, const Vec<dim> &r) {
+        if (!p.fluid(j))
+          return;
+        const double w = p.V[j] * nb.w(r);
+        num += w * p.pressure[j];
         den += w;
-      }
-      const double d = den > 0 ? pressure[i] - num / den : 0.0;
+      });
+      const double d = den > 0 ? p.pressure[i] - num / den : 0.0;
       return d * d;
     }
   };
 
   /// 1 for interior fluid particles (not free surface), else 0.
+  template <int dim>
   struct InteriorFluid
   {
-    const int *kind, *surface;
-    TWINFLOW_HD int operator()(int i) const { return kind[i] == ParticleKind::fluid && !surface[i] ? 1 : 0; }
+    ParticleView<dim> p; ///< kind, surface
+    TWINFLOW_HD int operator()(int i) const { return p.fluid(i) && !p.surface[i] ? 1 : 0; }
   };
 
   /// |u_i| for fluid particles, 0 otherwise (max reduction).
   template <int dim>
   struct FluidSpeed
   {
-    const Vec<dim> *u;
-    const int      *kind;
-    TWINFLOW_HD double operator()(int i) const { return kind[i] == ParticleKind::fluid ? geometry::norm(u[i]) : 0.0; }
+    ParticleView<dim> p; ///< kind, u
+    TWINFLOW_HD double operator()(int i) const { return p.fluid(i) ? geometry::norm(p.u[i]) : 0.0; }
   };
 } // namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail

@@ -162,10 +162,9 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       geometry::Vec<dim> r, e, gradW;
       double             dist;
 
-      TWINFLOW_HD Pair(const DomainBox<dim> &box, const CubicSpline<dim> &W, const geometry::Vec<dim> &xi,
-                       const geometry::Vec<dim> &xj)
+      TWINFLOW_HD Pair(const CubicSpline<dim> &W, const geometry::Vec<dim> &rij)
       {
-        r    = box.difference(xi, xj);
+        r    = rij;
         dist = geometry::norm(r);
         if (dist > 0)
         {
@@ -187,17 +186,13 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     template <int dim>
     struct VolumeF
     {
-      const geometry::Vec<dim> *x;
-      const int                *offsets, *indices;
-      DomainBox<dim>            box;
-      CubicSpline<dim>          W;
-      double                   *V;
+      NeighborView<dim> nb;
+      double           *V = nullptr;
 
       TWINFLOW_HD void operator()(const int i) const
       {
         double sum = 0;
-        for (int k = offsets[i]; k < offsets[i + 1]; ++k)
-          sum += W.value(geometry::norm(box.difference(x[i], x[indices[k]])));
+        for_each_neighbor(nb, i, [&](int, int, const geometry::Vec<dim> &r) { sum += nb.w(r); });
         V[i] = sum > 0 ? 1.0 / sum : 0.0;
       }
     };
@@ -208,20 +203,14 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     {
       static constexpr int NL = dim * (dim + 1) / 2;  ///< unknowns of the symmetric L
 
-      const geometry::Vec<dim> *x;
-      const double             *V;
-      const int                *offsets, *indices;
-      DomainBox<dim>            box;
-      CubicSpline<dim>          W;
-      Tensor2<dim>             *G, *L;
-      int                      *fallback;
-      CorrectionChecks          checks;
+      NeighborView<dim> nb;
+      const double     *V = nullptr;
+      Tensor2<dim>     *G = nullptr, *L = nullptr;
+      int              *fallback = nullptr;
+      CorrectionChecks  checks;
 
       TWINFLOW_HD void operator()(const int i) const
       {
-        const geometry::Vec<dim> xi = x[i];
-        const int                k0 = offsets[i], k1 = offsets[i + 1];
-
         // One pass over the neighbours gathers every moment; G_i only enters afterwards, since
         // A^{kmn} = G^{kq} B^{qmn} and Eq. 25's matrix is K1 + A·K2 (below).
         //   (G^{-1})^{mn} = −Σ_j r^m ∇_n W V_j
@@ -254,14 +243,12 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
         for (int a = 0; a < NL; ++a)
           for (int c = 0; c < NL; ++c)
             K1[a][c] = 0;
-        for (int k = k0; k < k1; ++k)
-        {
-          const int j = indices[k];
+        for_each_neighbor(nb, i, [&](const int j, int, const geometry::Vec<dim> &r) {
           if (j == i)
-            continue;
-          const Pair<dim> p(box, W, xi, x[j]);
+            return;
+          const Pair<dim> p(nb.W, r);
           if (p.dist <= 0)
-            continue; // ∇W = 0 and no direction: contributes to no moment
+            return; // ∇W = 0 and no direction: contributes to no moment
           const double Vj = V[j];
           for (int m = 0; m < dim; ++m)
             for (int n = 0; n < dim; ++n)
@@ -286,7 +273,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
           for (int q = 0; q < dim; ++q)
             for (int c = 0; c < NL; ++c)
               K2[q][c] += p.e[q] * col[c];
-        }
+        });
 
         // --- G_i
         Tensor2<dim> Gi;
@@ -348,23 +335,16 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     template <int dim>
     struct AssembleF
     {
-      const geometry::Vec<dim> *x;
-      const double             *V;
-      const int                *offsets, *indices;
-      DomainBox<dim>            box;
-      CubicSpline<dim>          W;
-      bool                      consistent;
-      const Tensor2<dim>       *G, *L;
-      double                   *grad[dim];
-      double                   *lap;
-
-      TWINFLOW_HD explicit AssembleF(const CubicSpline<dim> &W_) : W(W_) {}
+      NeighborView<dim>   nb;
+      const double       *V          = nullptr;
+      bool                consistent = false;
+      const Tensor2<dim> *G = nullptr, *L = nullptr;
+      double             *grad[dim] = {};
+      double             *lap       = nullptr;
 
       TWINFLOW_HD void operator()(const int i) const
       {
-        const geometry::Vec<dim> xi = x[i];
-        const int                k0 = offsets[i], k1 = offsets[i + 1];
-        Tensor2<dim>             Gi = identity<dim>(), Li = identity<dim>();
+        Tensor2<dim> Gi = identity<dim>(), Li = identity<dim>();
         if (consistent)
         {
           Gi = G[i];
@@ -373,21 +353,19 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
         geometry::Vec<dim> diag_g = geometry::Vec<dim>::zero(), s = geometry::Vec<dim>::zero();
         double             diag_l = 0;
         int                kd     = -1;
-        for (int k = k0; k < k1; ++k)
-        {
-          const int j = indices[k];
+        for_each_neighbor(nb, i, [&](const int j, const int k, const geometry::Vec<dim> &r) {
           if (j == i)
           {
             kd = k;
-            continue;
+            return;
           }
-          const Pair<dim> p(box, W, xi, x[j]);
+          const Pair<dim> p(nb.W, r);
           if (p.dist <= 0)
           {
             for (int d = 0; d < dim; ++d)
               grad[d][k] = 0;
             lap[k] = 0;
-            continue;
+            return;
           }
           // gradient, Eq. 36–39 / 22: V_j (G) ∇_i W_ij
           geometry::Vec<dim> v;
@@ -419,7 +397,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
           diag_l += c / p.dist;
           if (consistent)
             s += c * p.e;
-        }
+        });
         if (kd >= 0)
         {
           for (int d = 0; d < dim; ++d)
@@ -428,7 +406,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
         }
         // Eq. 23's −Σ_j c_j e_ij · ∇f_i with ∇f_i = (A^G f)_i: subtract s · A^G_ik
         if (consistent)
-          for (int k = k0; k < k1; ++k)
+          for (int k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k)
           {
             double t = 0;
             for (int d = 0; d < dim; ++d)
@@ -437,6 +415,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
           }
       }
     };
+
   } // namespace operators_detail
 
   template <int dim>
@@ -447,7 +426,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     V.resize(n);
     if (n == 0)
       return;
-    operators_detail::VolumeF<dim> f{ptr(x), ptr(nl.offsets), ptr(nl.indices), box, W, ptr(V)};
+    const operators_detail::VolumeF<dim> f{neighbor_view(x, nl, box, W), ptr(V)};
     thrust::counting_iterator<int> first(0);
     thrust::for_each(exec, first, first + n, f);
   }
@@ -463,8 +442,13 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     if (n == 0)
       return 0;
     dvec<int>                           fallback(n);
-    operators_detail::CorrectionF<dim> f{ptr(x), ptr(V), ptr(nl.offsets), ptr(nl.indices), box, W,
-                                         ptr(G), ptr(L), ptr(fallback), checks};
+    operators_detail::CorrectionF<dim> f;
+    f.nb       = neighbor_view(x, nl, box, W);
+    f.V        = ptr(V);
+    f.G        = ptr(G);
+    f.L        = ptr(L);
+    f.fallback = ptr(fallback);
+    f.checks   = checks;
     thrust::counting_iterator<int> first(0);
     thrust::for_each(exec, first, first + n, f);
     return thrust::reduce(exec, fallback.begin(), fallback.end(), 0);
@@ -482,12 +466,9 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     A.laplacian.resize(n_entries);
     if (n == 0)
       return;
-    operators_detail::AssembleF<dim> f(W);
-    f.x          = ptr(x);
+    operators_detail::AssembleF<dim> f;
+    f.nb         = neighbor_view(x, nl, box, W);
     f.V          = ptr(V);
-    f.offsets    = ptr(nl.offsets);
-    f.indices    = ptr(nl.indices);
-    f.box        = box;
     f.consistent = kind == OperatorKind::consistent;
     f.G          = f.consistent ? ptr(G) : nullptr;
     f.L          = f.consistent ? ptr(L) : nullptr;

@@ -2,36 +2,29 @@
 // Part of the single kernel source: included by engine.inl for both backends.
 #pragma once
 #include <twinflow_sph/backend.h>
-#include <twinflow_sph/domain.h>
-#include <twinflow_sph/engine.h>
-#include <twinflow_sph/kernel.h>
+#include <twinflow_sph/kernel_views.h>
 
 namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
 {
-  /// Pressure of a solid's markers that see fluid, and their count (for the reference level p̄_s).
+  /// Pressure of a solid's markers that see fluid (for the reference level p̄_s).
   template <int dim>
   struct SolidMarkerPressure
   {
-    const int    *kind, *body;
-    const double *pressure, *support;
-    int           target;
+    ParticleView<dim> p; ///< kind, body, support, pressure
+    int               target = 0;
     TWINFLOW_HD double operator()(int i) const
     {
-      const bool mine = kind[i] == ParticleKind::solid && (body ? body[i] == target : target == 0) && support[i] > 0;
-      return mine ? pressure[i] : 0.0;
+      return p.marker_of(i, target) && p.support[i] > 0 ? p.pressure[i] : 0.0;
     }
   };
 
+  /// 1 for a marker of solid `target` that sees fluid (their count, for p̄_s).
   template <int dim>
   struct IsSolidMarkerWithFluid
   {
-    const int    *kind, *body;
-    const double *support;
-    int           target;
-    TWINFLOW_HD int operator()(int i) const
-    {
-      return kind[i] == ParticleKind::solid && (body ? body[i] == target : target == 0) && support[i] > 0 ? 1 : 0;
-    }
+    ParticleView<dim> p; ///< kind, body, support
+    int               target = 0;
+    TWINFLOW_HD int operator()(int i) const { return p.marker_of(i, target) && p.support[i] > 0 ? 1 : 0; }
   };
 
   /// 1 if marker i of solid `target` has a free-surface fluid neighbour (its wetted surface is
@@ -39,19 +32,14 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
   template <int dim>
   struct MarkerMeetsFreeSurface
   {
-    const int *kind, *body, *offsets, *indices, *surface;
-    int        target;
+    ParticleView<dim> p; ///< kind, body, surface
+    NeighborView<dim> nb;
+    int               target = 0;
     TWINFLOW_HD int operator()(int a) const
     {
-      if (kind[a] != ParticleKind::solid || (body ? body[a] != target : target != 0))
+      if (!p.marker_of(a, target))
         return 0;
-      for (int k = offsets[a]; k < offsets[a + 1]; ++k)
-      {
-        const int b = indices[k];
-        if (kind[b] == ParticleKind::fluid && surface[b])
-          return 1;
-      }
-      return 0;
+      return any_neighbor(nb, a, [&](const int b) { return p.fluid(b) && p.surface[b]; }) ? 1 : 0;
     }
   };
 
@@ -65,16 +53,15 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
   template <int dim>
   struct SolidForce
   {
-    const Vec<dim> *x, *u, *wall_velocity;
-    const int      *kind, *body, *offsets, *indices;
-    const double   *V, *pressure, *support, *grad_p[dim];
-    DomainBox<dim>  box;
-    CubicSpline<dim> W;
-    double          mu, dt, inv_rho0, p_ref;
-    int             target;
+    ParticleView<dim> p; ///< x, u, wall_velocity, kind, body, V, pressure, support
+    NeighborView<dim> nb;
+    Components<dim>   grad_p;
+    double            mu = 0, dt = 0, inv_rho0 = 0;
+    double            p_ref  = 0; ///< p̄_s
+    int               target = 0;
     TWINFLOW_HD Vec<dim> end_of_step_velocity(int b) const
     {
-      Vec<dim> v = u[b];
+      Vec<dim> v = p.u[b];
       for (int d = 0; d < dim; ++d)
         v[d] -= dt * inv_rho0 * grad_p[d][b];
       return v;
@@ -82,35 +69,29 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
     TWINFLOW_HD Vec<dim> operator()(int a) const
     {
       Vec<dim> f = Vec<dim>::zero();
-      if (kind[a] != ParticleKind::solid || (body ? body[a] != target : target != 0) || support[a] <= 0)
+      if (!p.marker_of(a, target) || p.support[a] <= 0)
         return f;
       Vec<dim> mirror = Vec<dim>::zero();
-      for (int k = offsets[a]; k < offsets[a + 1]; ++k)
-      {
-        const int b = indices[k];
-        if (kind[b] != ParticleKind::fluid)
-          continue;
-        const double w = W.value(geometry::norm(box.difference(x[a], x[b])));
-        mirror += w * end_of_step_velocity(b);
-      }
+      for_each_neighbor(nb, a, [&](const int b, int, const Vec<dim> &r_ab) {
+        if (p.fluid(b))
+          mirror += nb.w(r_ab) * end_of_step_velocity(b);
+      });
       for (int d = 0; d < dim; ++d)
-        mirror[d] = 2.0 * wall_velocity[a][d] - mirror[d] / support[a];
-      for (int k = offsets[a]; k < offsets[a + 1]; ++k)
-      {
-        const int b = indices[k];
-        if (kind[b] != ParticleKind::fluid)
-          continue;
-        const Vec<dim> r_ba = box.difference(x[b], x[a]);
+        mirror[d] = 2.0 * p.wall_velocity[a][d] - mirror[d] / p.support[a];
+      for_each_neighbor(nb, a, [&](const int b, int, const Vec<dim> &r_ab) {
+        if (!p.fluid(b))
+          return;
+        const Vec<dim> r_ba = -r_ab; // exact: the minimum image is antisymmetric
         const double   r    = geometry::norm(r_ba);
         if (r <= 0.0)
-          continue;
-        const double   dW   = W.derivative(r);
+          return;
+        const double   dW   = nb.W.derivative(r);
         const Vec<dim> ub   = end_of_step_velocity(b);
-        const double   pair = V[a] * V[b];
-        const double   ps   = pressure[a] + pressure[b] - 2.0 * p_ref;
+        const double   pair = p.V[a] * p.V[b];
+        const double   ps   = p.pressure[a] + p.pressure[b] - 2.0 * p_ref;
         for (int d = 0; d < dim; ++d)
           f[d] += pair * (ps * dW * r_ba[d] / r - 2.0 * mu * dW / r * (ub[d] - mirror[d]));
-      }
+      });
       return f;
     }
   };
@@ -120,36 +101,42 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
   struct SolidTorque
   {
     SolidForce<dim> force;
-    double          centre[3];
+    double          centre[3] = {0, 0, 0};
     TWINFLOW_HD Vec<3> operator()(int a) const
     {
       const Vec<dim> f = force(a);
       Vec<3>         r = Vec<3>::zero(), F = Vec<3>::zero();
       for (int d = 0; d < dim; ++d)
       {
-        r[d] = force.x[a][d] - centre[d];
+        r[d] = force.p.x[a][d] - centre[d];
         F[d] = f[d];
       }
       return geometry::cross(r, F);
     }
   };
 
+  /// The motions of move_solids on the device.
+  struct MotionsView
+  {
+    const MarkerMotion *motion = nullptr;
+    int                 count  = 0;
+  };
+
   /// Rigid motion of the markers of the solids in `motions` (MarkerMotion, engine.h).
   template <int dim>
   struct MoveMarkers
   {
-    const int          *kind, *body;
-    const MarkerMotion *motions;
-    int                 n_motions;
-    Vec<dim>           *x, *normal, *wall_velocity, *wall_acceleration;
+    ParticleView<dim> p; ///< kind, body
+    MotionsView       motions;
+    Vec<dim>         *x = nullptr, *normal = nullptr, *wall_velocity = nullptr, *wall_acceleration = nullptr;
     TWINFLOW_HD void operator()(int i) const
     {
-      if (kind[i] != ParticleKind::solid)
+      if (p.kind[i] != ParticleKind::solid)
         return;
-      const int b = body ? body[i] : 0;
-      for (int k = 0; k < n_motions; ++k)
+      const int b = p.body ? p.body[i] : 0;
+      for (int k = 0; k < motions.count; ++k)
       {
-        const MarkerMotion &m = motions[k];
+        const MarkerMotion &m = motions.motion[k];
         if (m.body != b)
           continue;
         Vec<3> r0 = Vec<3>::zero(), n0 = Vec<3>::zero(), r = Vec<3>::zero(), n = Vec<3>::zero();
@@ -177,18 +164,17 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
   template <int dim>
   struct KeepOutOfSolids
   {
-    const int          *kind;
-    const MarkerMotion *motions;
-    int                 n_motions;
-    double              margin;
-    Vec<dim>           *x, *u;
+    ParticleView<dim> p; ///< kind
+    MotionsView       motions;
+    double            margin = 0;
+    Vec<dim>         *x = nullptr, *u = nullptr;
     TWINFLOW_HD void operator()(int i) const
     {
-      if (kind[i] != ParticleKind::fluid)
+      if (!p.fluid(i))
         return;
-      for (int k = 0; k < n_motions; ++k)
+      for (int k = 0; k < motions.count; ++k)
       {
-        const MarkerMotion &m = motions[k];
+        const MarkerMotion &m = motions.motion[k];
         if (m.shape == 0)
           continue;
         double r[3] = {0, 0, 0}, q[2] = {0, 0};

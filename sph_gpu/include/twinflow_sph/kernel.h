@@ -14,10 +14,13 @@ namespace twinflow::sph
   template <int dim>
   struct CubicSpline
   {
-    double h;        ///< smoothing length
-    double sigma;    ///< normalisation σ_d / h^dim
-    double inv_h;    ///< 1 / h (the pair loops multiply: no division per pair)
-    double sigma_h;  ///< σ_d / h^(dim+1), the factor of dW/dr
+    double h       = 0; ///< smoothing length
+    double sigma   = 0; ///< normalisation σ_d / h^dim
+    double inv_h   = 0; ///< 1 / h (the pair loops multiply: no division per pair)
+    double sigma_h = 0; ///< σ_d / h^(dim+1), the factor of dW/dr
+
+    /// An unset kernel (h = 0), for views filled member by member (kernel_views.h).
+    CubicSpline() = default;
 
     TWINFLOW_HD explicit CubicSpline(double h_) : h(h_), sigma(0), inv_h(1 / h_), sigma_h(0)
     {

@@ -6,6 +6,8 @@
  */
 #include <twinflow_sph/backend.h>
 #include <twinflow_sph/domain.h>
+#include <twinflow_sph/kernel.h>
+#include <twinflow_sph/kernel_views.h>
 
 #include <cstddef>
 
@@ -22,6 +24,20 @@ namespace twinflow::sph
       int       n = 0;
       std::size_t n_entries() const { return indices.size(); }
     };
+
+    /// The list of the positions x as the kernels read it (NeighborView, kernel_views.h).
+    template <int dim>
+    NeighborView<dim> neighbor_view(const dvec<Vec<dim>> &x, const NeighborList &list, const DomainBox<dim> &box,
+                                    const CubicSpline<dim> &W)
+    {
+      NeighborView<dim> nb;
+      nb.x       = ptr(x);
+      nb.offsets = ptr(list.offsets);
+      nb.indices = ptr(list.indices);
+      nb.box     = box;
+      nb.W       = W;
+      return nb;
+    }
 
     /// Builds neighbour lists of all pairs closer than @p radius (minimum image in the
     /// box's periodic directions). In non-periodic directions the grid covers the
