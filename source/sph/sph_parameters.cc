@@ -14,52 +14,55 @@ namespace twinflow::sph
   void SphParameters::declare(dealii::ParameterHandler &prm)
   {
     using namespace dealii;
+    using Patterns::Tools::to_string;
+    const SphParameters d; // the defaults: one place for each (the engine's in EngineSettings)
     prm.enter_subsection("SPH");
-    prm.declare_entry("Backend", "cpu", Patterns::Selection("cpu|cuda"),
+    prm.declare_entry("Backend", d.backend, Patterns::Selection("cpu|cuda"),
                       "Where the SPH kernels run: cpu (Thrust OpenMP) or cuda (needs a build with nvcc and a GPU).");
-    prm.declare_entry("Particle spacing", "0.02", Patterns::Double(0), "Initial inter-particle distance [m], > 0.");
-    prm.declare_entry("Smoothing length ratio", "1.2", Patterns::Double(0.5, 3), "h / spacing (kernel support 2h).");
-    prm.declare_entry("Operators", "consistent", Patterns::Selection("consistent|standard"),
+    prm.declare_entry("Particle spacing", to_string(d.spacing), Patterns::Double(0), "Initial inter-particle distance [m], > 0.");
+    prm.declare_entry("Smoothing length ratio", to_string(d.h_over_dx), Patterns::Double(0.5, 3), "h / spacing (kernel support 2h).");
+    prm.declare_entry("Operators", d.consistent ? "consistent" : "standard", Patterns::Selection("consistent|standard"),
                       "Discrete gradient/Laplacian: consistent (Eq. 22-26) or standard (Eq. 19-20).");
-    prm.declare_entry("Alpha", "0.5", Patterns::Double(0, 1),
+    prm.declare_entry("Alpha", to_string(d.alpha), Patterns::Double(0, 1),
                       "Weight of the density-invariance source in the pressure equation (Eq. 55/57).");
-    prm.declare_entry("Wall pressure condition", "bce", Patterns::Selection("bce|neumann"),
+    prm.declare_entry("Wall pressure condition", d.neumann_walls ? "neumann" : "bce", Patterns::Selection("bce|neumann"),
                       "BCE markers' pressure rows: force balance (Eq. 64-65) or zero normal gradient (Eq. 66-67).");
-    prm.declare_entry("Free-surface density ratio", "0.95", Patterns::Double(0, 1),
+    prm.declare_entry("Free-surface density ratio", to_string(d.free_surface_ratio), Patterns::Double(0, 1),
                       "Fluid particles with summation density below ratio * rho0 are free-surface particles (p = 0).");
-    prm.declare_entry("Free-surface divergence ratio", "0", Patterns::Double(0, 1),
+    prm.declare_entry("Free-surface divergence ratio", to_string(d.free_surface_divergence_ratio), Patterns::Double(0, 1),
                       "Fluid particles whose position divergence div r is below ratio * dim are also free-surface "
                       "particles (catches the surface where BCE markers fill the density up, e.g. at walls; Lind et "
                       "al. 2012 use 1.5 in 2D); 0: density criterion only.");
-    prm.declare_entry("Free-surface neighbour ratio", "0", Patterns::Double(0, 1),
+    prm.declare_entry("Free-surface neighbour ratio", to_string(d.free_surface_neighbour_ratio), Patterns::Double(0, 1),
                       "Fluid particles with fewer neighbours (all kinds, itself included) than ratio * the count of "
                       "a full lattice support (21 in 2D, 57 in 3D at h = 1.2 dx) are also free-surface particles "
                       "(spray clusters, whose compression hides the density deficit); 0: off.");
-    prm.declare_entry("Particle shifting", "0", Patterns::Double(0, 10),
+    prm.declare_entry("Particle shifting", to_string(d.shifting), Patterns::Double(0, 10),
                       "Coefficient A of Fickian particle shifting (dr = -A h |u| dt grad C, Lind et al. 2012); 0: off.");
-    prm.declare_entry("Shifting velocity floor", "0", Patterns::Double(0),
+    prm.declare_entry("Shifting velocity floor", to_string(d.shifting_velocity_floor), Patterns::Double(0),
                       "Speed scale of particle shifting: dr = -A h max(|u|, floor) dt grad C [m/s]. > 0: shifting also "
                       "acts at rest (damps the row-pairing mode of the consistent operators next to walls) and "
                       "particles next to the free surface are not shifted; 0: |u| (Lind et al. 2012).");
-    prm.declare_entry("Time step", "1e-3", Patterns::Double(0), "Maximum time step [s], > 0.");
-    prm.declare_entry("CFL number", "0.2", Patterns::Double(0),
+    prm.declare_entry("Time step", to_string(d.time_step), Patterns::Double(0), "Maximum time step [s], > 0.");
+    prm.declare_entry("CFL number", to_string(d.cfl), Patterns::Double(0),
                       "dt <= CFL h / max(|u|_max, Monitors/Reference velocity); 0: fixed step.");
-    prm.declare_entry("Solver tolerance", "1e-8", Patterns::Double(0, 1), "Relative residual of the BiCGStab solves.");
-    prm.declare_entry("Pressure preconditioner", "multigrid", Patterns::Selection("multigrid|jacobi"),
+    prm.declare_entry("Solver tolerance", to_string(d.solver_tolerance), Patterns::Double(0, 1), "Relative residual of the BiCGStab solves.");
+    prm.declare_entry("Pressure preconditioner", d.multigrid ? "multigrid" : "jacobi", Patterns::Selection("multigrid|jacobi"),
                       "Preconditioner of the pressure BiCGStab: multigrid (cell aggregation, iterations nearly "
                       "independent of the particle count) or jacobi.");
-    prm.declare_entry("Density error relaxation", "step", Patterns::Selection("step|reference step"),
+    prm.declare_entry("Density error relaxation",
+                      d.relax_over_reference_step ? "reference step" : "step", Patterns::Selection("step|reference step"),
                       "Time over which the density-invariance source (Eq. 55/57) removes the density error: the "
                       "current step (the paper) or the reference step min(Time step, CFL h / Monitors/Reference "
                       "velocity), so that a CFL step shortened by a few fast particles does not stiffen it as 1/dt^2.");
-    prm.declare_entry("Positive-definite Laplacian correction", "false", Patterns::Bool(),
+    prm.declare_entry("Positive-definite Laplacian correction", to_string(d.positive_definite_laplacian), Patterns::Bool(),
                       "Consistent operators: a non-surface particle whose L_i is not positive definite gets the "
                       "standard Laplacian row (keeps the pressure rows elliptic in splashing flows).");
-    prm.declare_entry("Max iterations", "2000", Patterns::Integer(1), "Iteration cap of the BiCGStab solves.");
-    prm.declare_entry("Checkpoint interval", "0", Patterns::Double(0),
+    prm.declare_entry("Max iterations", to_string(d.max_iterations), Patterns::Integer(1), "Iteration cap of the BiCGStab solves.");
+    prm.declare_entry("Checkpoint interval", to_string(d.checkpoint_interval), Patterns::Double(0),
                       "Simulated time [s] between checkpoints of the particle state (<output>/sph/checkpoint.bin, "
                       "replaced each time); 0: none. A diverging run also leaves last_good_state.bin.");
-    prm.declare_entry("Restart file", "", Patterns::Anything(),
+    prm.declare_entry("Restart file", d.restart_file, Patterns::Anything(),
                       "Checkpoint to continue from (checkpoint.bin or last_good_state.bin of a run of the same scene "
                       "and spacing); empty: start at t = 0. Restarting into the same output directory continues its "
                       "monitors and particle series.");

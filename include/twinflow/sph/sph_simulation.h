@@ -17,26 +17,30 @@
 
 namespace twinflow::sph
 {
-  /// Method parameters of the SPH solver (subsection "SPH").
+  /// Method parameters of the SPH solver (subsection "SPH"). Each member holds the default of
+  /// its entry (declare() prints it); an entry that sets an engine setting takes the default of
+  /// EngineSettings (engine.h).
   struct SphParameters
   {
     std::string backend       = "cpu";
-    double      spacing       = 0.02;   ///< Δx
-    double      h_over_dx     = 1.2;    ///< smoothing length / spacing
-    bool        consistent    = true;
-    double      alpha         = 0.5;
-    bool        neumann_walls = false;
-    double      free_surface_ratio = 0.95;
+    double      spacing       = EngineSettings().spacing; ///< Δx
+    double      h_over_dx     = 1.2;                      ///< smoothing length / spacing
+    bool        consistent    = EngineSettings().consistent;
+    double      alpha         = EngineSettings().alpha;
+    bool        neumann_walls = EngineSettings().pressure_wall == PressureWall::neumann;
+    double      free_surface_ratio = EngineSettings().free_surface_ratio;
     double      free_surface_divergence_ratio = 0;    ///< surface also where div r < ratio · dim (0: off)
     double      free_surface_neighbour_ratio  = 0;    ///< … or fewer neighbours than ratio · a full lattice support (0: off)
-    double      shifting      = 0;      ///< particle-shifting coefficient (0: off)
-    double      shifting_velocity_floor = 0; ///< shifting speed scale max(|u_i|, floor) [m/s]
+    double      shifting      = EngineSettings().shifting; ///< particle-shifting coefficient (0: off)
+    double      shifting_velocity_floor = EngineSettings().shifting_velocity_floor; ///< shifting speed scale max(|u_i|, floor) [m/s]
     double      time_step     = 1e-3;   ///< maximum step
     double      cfl           = 0.2;    ///< dt ≤ CFL h / max(|u|, U_ref)
-    double      solver_tolerance = 1e-8;
-    int         max_iterations   = 2000;
-    bool        multigrid        = true;   ///< pressure preconditioner: multigrid (else Jacobi)
-    bool        positive_definite_laplacian = false; ///< L_i = I where L_i is not SPD
+    double      solver_tolerance = SolverSettings().tolerance;
+    int         max_iterations   = SolverSettings().max_iterations;
+    /// pressure preconditioner: multigrid (else Jacobi)
+    bool        multigrid = EngineSettings().pressure_preconditioner == PressurePreconditioner::multigrid;
+    /// L_i = I where L_i is not SPD
+    bool        positive_definite_laplacian = CorrectionChecks().positive_definite_laplacian;
     bool        relax_over_reference_step   = false; ///< density error removed over Δt_ref, not Δt
     double      checkpoint_interval = 0;  ///< simulated time between checkpoints (0: none)
     std::string restart_file;             ///< checkpoint to continue from (empty: fresh start)

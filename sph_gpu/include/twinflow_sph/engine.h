@@ -24,10 +24,12 @@ namespace twinflow::sph
   /// Preconditioner of the pressure solve: Jacobi or the cell-aggregation multigrid (multigrid.h).
   enum class PressurePreconditioner { jacobi, multigrid };
 
+  /// Settings of the engine. Each member's initialiser is the one default of the setting: the
+  /// scene parameters of subsection SPH (SphParameters, source/sph) take theirs from here.
   struct EngineSettings
   {
-    double             spacing   = 0.01;  ///< initial inter-particle distance Δx
-    double             h         = 0.012; ///< smoothing length (support 2h)
+    double             spacing   = 0.02;  ///< initial inter-particle distance Δx
+    double             h         = 0.024; ///< smoothing length (support 2h; scenes: ratio · Δx)
     double             rho0      = 1000;  ///< rest density
     double             mu        = 1e-3;  ///< dynamic viscosity
     bool               consistent = true; ///< consistent (Eq. 22–23) or standard (Eq. 19–20) operators

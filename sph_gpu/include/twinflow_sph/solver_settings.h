@@ -5,7 +5,7 @@ namespace twinflow::sph
 {
   struct SolverSettings
   {
-    int    max_iterations = 1000;
+    int    max_iterations = 2000;
     double tolerance      = 1e-8;   ///< on ||b − A x|| / ||b||
   };
 
