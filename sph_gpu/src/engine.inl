@@ -141,23 +141,22 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
           for (int d = 0; d < 3; ++d)
             torque_centres[m.body][d] = m.to[d];
       device_motions.assign(motions.begin(), motions.end()); // a few bodies: no reallocation after the first
-      const detail::MotionsView            moved{ptr(device_motions), static_cast<int>(motions.size())};
-      const thrust::counting_iterator<int> first(0), last(n);
-      detail::MoveMarkers<dim>             move;
+      const detail::MotionsView moved{ptr(device_motions), static_cast<int>(motions.size())};
+      detail::MoveMarkers<dim>  move;
       move.p                 = particles();
       move.motions           = moved;
       move.x                 = ptr(x);
       move.normal            = ptr(normal);
       move.wall_velocity     = ptr(wall_velocity);
       move.wall_acceleration = ptr(wall_acceleration);
-      thrust::for_each(exec, first, last, move);
+      for_each_particle(move);
       detail::KeepOutOfSolids<dim> keep_out;
       keep_out.p       = particles();
       keep_out.motions = moved;
       keep_out.margin  = 0.25 * settings.spacing;
       keep_out.x       = ptr(x);
       keep_out.u       = ptr(u);
-      thrust::for_each(exec, first, last, keep_out);
+      for_each_particle(keep_out);
     }
 
     /// One step of Algorithm 2; each phase is timed into the StepReport.
@@ -233,7 +232,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       f.rho                  = ptr(rho);
       f.support              = ptr(support);
       f.surface              = ptr(surface);
-      thrust::for_each(exec, thrust::counting_iterator<int>(0), thrust::counting_iterator<int>(n), f);
+      for_each_particle(f);
       report.free_surface_particles = thrust::reduce(exec, surface.begin(), surface.end(), 0);
     }
 
@@ -253,7 +252,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       m.inv_dt  = 1.0 / dt;
       m.half_nu = 0.5 * (settings.mu / settings.rho0);
       m.values  = ptr(values);
-      thrust::for_each(exec, thrust::counting_iterator<int>(0), thrust::counting_iterator<int>(n), m);
+      for_each_particle(m);
     }
 
     /// Algorithm 2, step 2: velocity prediction u*, Eq. 56, one solve per component with the
@@ -261,13 +260,12 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     /// velocity of ContinuityVelocity).
     void predict_velocity(const double dt)
     {
-      const thrust::counting_iterator<int> first(0), last(n);
       u_approach.resize(n);
       detail::ExtrapolateToMarkers<dim> extrapolate;
       extrapolate.p   = particles();
       extrapolate.nb  = neighbors(x);
       extrapolate.out = ptr(u_approach);
-      thrust::for_each(exec, first, last, extrapolate);
+      for_each_particle(extrapolate);
       detail::VelocityRhs<dim> r;
       r.p       = particles();
       r.lap_u   = ptr(tmp);
@@ -280,9 +278,9 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
         spmv(nl.offsets, nl.indices, A.laplacian, comp, tmp);
         r.c = c;
         r.f = settings.acceleration[c];
-        thrust::for_each(exec, first, last, r);
+        for_each_particle(r);
         report.velocity[c] = bicgstab(nl.offsets, nl.indices, values, rhs, comp, settings.velocity_solver);
-        thrust::for_each(exec, first, last, detail::SetComponent<dim>{ptr(comp), ptr(u), c});
+        for_each_particle(detail::SetComponent<dim>{ptr(comp), ptr(u), c});
       }
     }
 
@@ -298,7 +296,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
         cont.p        = particles();
         cont.approach = ptr(u_approach);
         cont.out      = ptr(u_cont);
-        thrust::for_each(exec, thrust::counting_iterator<int>(0), thrust::counting_iterator<int>(n), cont);
+        for_each_particle(cont);
       }
       thrust::fill(exec, div_u.begin(), div_u.end(), 0.0);
       for (int c = 0; c < dim; ++c)
@@ -314,9 +312,8 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     void solve_pressure(const double dt)
     {
       compute_velocity_divergence();
-      const thrust::counting_iterator<int> first(0), last(n);
-      const bool                           neumann = settings.pressure_wall == PressureWall::neumann;
-      detail::PressureMatrix<dim>          m;
+      const bool                  neumann = settings.pressure_wall == PressureWall::neumann;
+      detail::PressureMatrix<dim> m;
       m.p        = particles();
       m.nb       = neighbors(x);
       m.A        = operators();
@@ -324,7 +321,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       m.neumann  = neumann;
       m.pinned   = pinned;
       m.values   = ptr(values);
-      thrust::for_each(exec, first, last, m);
+      for_each_particle(m);
       regularise_confined_pressure_matrix(); // confined flows only
       detail::PressureRhs<dim> r;
       r.p     = particles();
@@ -339,7 +336,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       r.neumann         = neumann;
       r.pinned          = pinned;
       r.rhs             = ptr(rhs);
-      thrust::for_each(exec, first, last, r);
+      for_each_particle(r);
       make_confined_rhs_compatible(); // confined flows only
       if (settings.pressure_preconditioner == PressurePreconditioner::multigrid)
       {
@@ -368,7 +365,6 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     /// Δt/ρ0 ∇p (Eq. 58), the position update and particle shifting.
     void correct_and_move(const double dt)
     {
-      const thrust::counting_iterator<int> first(0), last(n);
       for (int d = 0; d < dim; ++d)
         spmv(nl.offsets, nl.indices, A.gradient[d], pressure, grad_p[d]);
       if (!settings.consistent)
@@ -379,7 +375,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
         pg.A  = operators();
         for (int d = 0; d < dim; ++d)
           pg.grad_p[d] = ptr(grad_p[d]);
-        thrust::for_each(exec, first, last, pg);
+        for_each_particle(pg);
       }
       compute_solid_forces(dt); // needs u*, p^{n+1}, ∇p and the step's positions: before the move
       if (settings.shifting > 0)
@@ -394,7 +390,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       cm.open_face = settings.open_face;
       cm.x         = ptr(x);
       cm.u         = ptr(u);
-      thrust::for_each(exec, first, last, cm);
+      for_each_particle(cm);
       if (settings.shifting > 0)
         shift_particles(dt);
     }
@@ -410,7 +406,14 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       shift.max_shift   = 0.1 * settings.spacing;
       shift.u_min       = settings.shifting_velocity_floor;
       shift.x           = ptr(x);
-      thrust::for_each(exec, thrust::counting_iterator<int>(0), thrust::counting_iterator<int>(n), shift);
+      for_each_particle(shift);
+    }
+
+    /// Runs the per-particle functor f(i) for i = 0 … n − 1 on the backend.
+    template <typename F>
+    void for_each_particle(const F &f) const
+    {
+      thrust::for_each(exec, thrust::counting_iterator<int>(0), thrust::counting_iterator<int>(n), f);
     }
 
     /// The particle state as the kernels read it.
@@ -463,8 +466,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     {
       if (settings.free_surface)
         return;
-      const thrust::counting_iterator<int> first(0), last(n);
-      thrust::for_each(exec, first, last, detail::ShiftConfinedFluidRows<dim>{particles(), pinned, fluid_mean(rhs), ptr(rhs)});
+      for_each_particle(detail::ShiftConfinedFluidRows<dim>{particles(), pinned, fluid_mean(rhs), ptr(rhs)});
     }
 
     /// Σ_F V_i f_i / Σ_F V_i over the fluid particles (not the pin); 0 without fluid.
@@ -488,8 +490,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     {
       if (settings.free_surface)
         return;
-      const thrust::counting_iterator<int> first(0), last(n);
-      thrust::for_each(exec, first, last, detail::ShiftAll{fluid_mean(pressure), ptr(pressure)});
+      for_each_particle(detail::ShiftAll{fluid_mean(pressure), ptr(pressure)});
     }
 
     /// Confined flows: the fluid rows' diagonal gets −ε, ε = 1e-6 / (ρ0 h²) — about 1e-5 of
@@ -505,7 +506,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       shift.nb      = neighbors(x);
       shift.epsilon = 1e-6 / (settings.rho0 * settings.h * settings.h);
       shift.values  = ptr(values);
-      thrust::for_each(exec, thrust::counting_iterator<int>(0), thrust::counting_iterator<int>(n), shift);
+      for_each_particle(shift);
     }
 
     void setup_solids(const HostParticles<dim> &p)
