@@ -13,6 +13,7 @@
 #include <deal.II/numerics/vector_tools.h>
 
 #include <cmath>
+#include <algorithm>
 #include <istream>
 #include <limits>
 #include <ostream>
@@ -243,6 +244,37 @@ namespace twinflow::fem
     return Utilities::MPI::sum(v, comm);
   }
 
+  template <int dim>
+  double LevelSetSpace<dim>::integral(const TrilinosWrappers::MPI::Vector &v) const
+  {
+    double sum = 0;
+    for (const auto i : owned_dofs)
+      sum += lumped[i] * v[i]; // constrained DoFs have no own basis function: lumped = 0
+    return Utilities::MPI::sum(sum, comm);
+  }
+
+  template <int dim>
+  void LevelSetSpace<dim>::restore_integral(TrilinosWrappers::MPI::Vector &v, const double target) const
+  {
+    TrilinosWrappers::MPI::Vector shape;
+    reinit_owned(shape);
+    double now = 0, weight = 0;
+    for (const auto i : owned_dofs)
+    {
+      const double f = std::clamp(static_cast<double>(v[i]), 0.0, 1.0);
+      shape[i]       = f * (1 - f);
+      now += lumped[i] * v[i];
+      weight += lumped[i] * shape[i];
+    }
+    now    = Utilities::MPI::sum(now, comm);
+    weight = Utilities::MPI::sum(weight, comm);
+    if (weight <= 0)
+      return;
+    shape.compress(VectorOperation::insert);
+    v.add((target - now) / weight, shape);
+    mesh_constraints.distribute(v);
+  }
+
   // ---------------------------------------------------------------------------------------
   template <int dim>
   LevelSetField<dim>::LevelSetField(LevelSetSpace<dim> &space, const NavierStokes<dim> &flow, std::string field_name)
@@ -295,6 +327,9 @@ namespace twinflow::fem
   {
     transfer = std::make_unique<Transfer>(space.dof_handler());
     const std::vector<const TrilinosWrappers::MPI::Vector *> v{&current, &before, &before_previous};
+    if (conserved_by_transfer && !serialization)
+      for (unsigned int k = 0; k < v.size(); ++k)
+        integral_before_transfer[k] = space.integral(*v[k]);
     if (serialization)
       transfer->prepare_for_serialization(v);
     else
@@ -317,6 +352,9 @@ namespace twinflow::fem
       transfer->interpolate(out);
     for (auto &v : fresh)
       space.constraints().distribute(v);
+    if (conserved_by_transfer && !serialization) // the old mesh's integrals, put back at the interface
+      for (unsigned int k = 0; k < fresh.size(); ++k)
+        space.restore_integral(fresh[k], integral_before_transfer[k]);
     current         = fresh[0];
     before          = fresh[1];
     before_previous = fresh[2];

@@ -242,6 +242,7 @@ namespace twinflow::fem
   {
     this->open_boundaries = open;
     this->inflow_value    = 1.0; // air enters through open boundaries
+    this->conserved_by_transfer = true;
   }
 
   template <int dim>

@@ -39,6 +39,7 @@
 
 #include <map>
 #include <memory>
+#include <array>
 #include <set>
 #include <string>
 #include <vector>
@@ -136,6 +137,12 @@ namespace twinflow::fem
                            dealii::TrilinosWrappers::MPI::Vector       &theta) const;
     /// ∫(1 − H_ε(φ)): the water volume (the quadrature the mass correction uses).
     double water_volume(const dealii::TrilinosWrappers::MPI::Vector &phi) const;
+    /// ∫v of a field of the space (Σ_i ∫ψ_i v_i over the constrained basis; owned or ghosted v).
+    double integral(const dealii::TrilinosWrappers::MPI::Vector &v) const;
+    /// Make ∫v = @p target for a fraction v ∈ [0, 1] (owned vector, constraints applied here) by
+    /// adding c v(1 − v): the difference goes where the field is partial, i.e. to the interface,
+    /// and a field that is 0 or 1 everywhere is left alone.
+    void restore_integral(dealii::TrilinosWrappers::MPI::Vector &v, double target) const;
     /// Quadrature of every nonlinear level-set integral (H_ε, the mass correction, volumes).
     dealii::QGauss<dim> nonlinear_quadrature() const { return dealii::QGauss<dim>(prm.degree + 2); }
 
@@ -207,12 +214,16 @@ namespace twinflow::fem
     void push(const dealii::TrilinosWrappers::MPI::Vector &next, double dt);
     double                   dt_last    = 0;
     unsigned int             iterations = 0;
+    /// A volume fraction (θ): a mesh adaptation keeps its integral (the interpolation onto
+    /// coarsened cells does not, and each adaptation would add or remove water).
+    bool                     conserved_by_transfer = false;
     std::set<dealii::types::boundary_id> open_boundaries;
     double                   inflow_value = 0;
 
   private:
     using Transfer = dealii::parallel::distributed::SolutionTransfer<dim, dealii::TrilinosWrappers::MPI::Vector>;
     std::unique_ptr<Transfer>             transfer;
+    std::array<double, 3>                 integral_before_transfer{};
     dealii::TrilinosWrappers::SparseMatrix matrix;
   };
 
