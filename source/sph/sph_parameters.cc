@@ -43,6 +43,12 @@ namespace twinflow::sph
                       "Speed scale of particle shifting: dr = -A h max(|u|, floor) dt grad C [m/s]. > 0: shifting also "
                       "acts at rest (damps the row-pairing mode of the consistent operators next to walls) and "
                       "particles next to the free surface are not shifted; 0: |u| (Lind et al. 2012).");
+    prm.declare_entry("Wetted walls", d.wetted_walls ? "true" : "false", Patterns::Bool(),
+                      "Wall BCE markers hold the liquid that wets them: their force-balance pressure (Eq. 64) "
+                      "uses rho0 instead of the fluid's summation density (consistent operators), and a marker "
+                      "with no free-surface particle in its support mirrors the fluid's motion away from the "
+                      "wall as well as towards it. Keeps still water in a walled tank at rest (10 s); off by "
+                      "default (the floating disk settles 3.4 % of R lower with it, doc/benchmarks.md).");
     prm.declare_entry("Time step", to_string(d.time_step), Patterns::Double(0), "Maximum time step [s], > 0.");
     prm.declare_entry("CFL number", to_string(d.cfl), Patterns::Double(0),
                       "dt <= CFL h / max(|u|_max, Monitors/Reference velocity); 0: fixed step.");
@@ -84,6 +90,7 @@ namespace twinflow::sph
     free_surface_neighbour_ratio  = prm.get_double("Free-surface neighbour ratio");
     shifting           = prm.get_double("Particle shifting");
     shifting_velocity_floor = prm.get_double("Shifting velocity floor");
+    wetted_walls            = prm.get_bool("Wetted walls");
     time_step = prm.get_double("Time step");
     require(time_step > 0, "SPH/Time step", prm.get("Time step"), "the time step must be > 0");
     cfl              = prm.get_double("CFL number");

@@ -528,6 +528,7 @@ namespace twinflow::sph
     s.open_face          = open_face(scene).face;
     s.shifting           = prm.shifting;
     s.shifting_velocity_floor = prm.shifting_velocity_floor;
+    s.wetted_walls            = prm.wetted_walls;
     for (int d = 0; d < 3; ++d)
     {
       s.acceleration[d] = scene.gravity[d] + scene.body_force[d];

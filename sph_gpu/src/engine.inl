@@ -294,6 +294,8 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       {
         detail::ContinuityVelocity<dim> cont;
         cont.p        = particles();
+        cont.nb       = neighbors(x);
+        cont.wetted_walls = settings.wetted_walls;
         cont.approach = ptr(u_approach);
         cont.out      = ptr(u_cont);
         for_each_particle(cont);
@@ -334,6 +336,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
         r.g[d] = settings.gravity[d];
       r.relaxation_time = std::max(dt, settings.density_relaxation_time);
       r.neumann         = neumann;
+      r.rest_density_markers = settings.wetted_walls && settings.consistent;
       r.pinned          = pinned;
       r.rhs             = ptr(rhs);
       for_each_particle(r);

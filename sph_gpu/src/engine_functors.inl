@@ -138,6 +138,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
     double            dt = 0, rho0 = 0, alpha = 0, g[dim] = {};
     double            relaxation_time = 0; ///< time over which the density error is removed (≥ dt)
     bool              neumann         = false;
+    bool              rest_density_markers = false; ///< wall markers: ρ_b = ρ0 in Eq. 64 (else the summation density)
     int               pinned          = -1;
     double           *rhs             = nullptr;
     TWINFLOW_HD void operator()(int i) const
@@ -164,13 +165,20 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
         rhs[i] = 0;
         return;
       }
-      double s = 0; // (g − a^p)·Σ_b ρ_b r_ab W_ab, Eq. 64
+      // (g − a^p)·Σ_b ρ_b r_ab W_ab, Eq. 64. Wetted walls, consistent operators: ρ_b = ρ0, the fluid is
+      // incompressible and the summation density of the top rows is a kernel deficit (0.83 ρ0 on
+      // the surface row), not the fluid's: with it the markers beside the surface sat below the
+      // hydrostatic field and the contact line of still water sank from the first step. The
+      // standard operators' surface rows are one-sided anyway; ρ0 made their jitter worse
+      // (doc/benchmarks.md, "Still water at rest").
+      const bool rest_density = rest_density_markers && p.kind[i] == ParticleKind::wall;
+      double     s            = 0;
       for_each_neighbor(nb, i, [&](const int j, int, const Vec<dim> &r) {
         if (!p.fluid(j) || j == i)
           return;
         const double w = nb.w(r);
         for (int d = 0; d < dim; ++d)
-          s += (g[d] - p.wall_acceleration[i][d]) * p.rho[j] * r[d] * w;
+          s += (g[d] - p.wall_acceleration[i][d]) * (rest_density ? rho0 : p.rho[j]) * r[d] * w;
       });
       rhs[i] = s;
     }
@@ -276,11 +284,17 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
   /// the fluid's *approach* velocity at t^n, (ũ^n_a − u^p_a)·n, mirrored. The force-balance
   /// pressure rows (Eq. 64) already carry the wall's reaction to ρ(g − a^p); mirroring all of
   /// u* would count it twice (12 % hydrostatic error), mirroring nothing lets particles that
-  /// move towards the wall pass through it.
+  /// move towards the wall pass through it. With wetted_walls, motion away from a wall marker
+  /// is mirrored too where the marker is wetted (no free-surface particle among its neighbours): liquid under
+  /// pressure cannot leave a wall, and nothing else in the pressure equation keeps it there
+  /// (still water lifted off the floor at a constant 8e-5 m/s², doc/benchmarks.md); where the
+  /// fluid next to the wall has a free surface it may separate.
   template <int dim>
   struct ContinuityVelocity
   {
-    ParticleView<dim> p;                  ///< kind, support, u, wall_velocity, normal
+    ParticleView<dim> p;                  ///< kind, support, surface, u, wall_velocity, normal
+    NeighborView<dim> nb;
+    bool              wetted_walls = false; ///< EngineSettings::wetted_walls
     const Vec<dim>   *approach = nullptr; ///< ũ^n (ExtrapolateToMarkers of u^n)
     Vec<dim>         *out      = nullptr;
     TWINFLOW_HD void operator()(int i) const
@@ -296,7 +310,9 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
           nn += p.normal[i][d] * p.normal[i][d];
         }
         un = nn > 0 ? un / nn : 0.0;
-        const double toward = un < 0 ? un : 0.0; // only motion into the wall
+        const bool   wetted = wetted_walls && p.kind[i] == ParticleKind::wall &&
+                              !any_neighbor(nb, i, [&](const int j) { return p.fluid(j) && p.surface[j]; });
+        const double toward = (un < 0 || wetted) ? un : 0.0; // motion into the wall; away from it only if wetted
         for (int d = 0; d < dim; ++d)
           out[i][d] = 2.0 * p.wall_velocity[i][d] - p.u[i][d] - 2.0 * toward * p.normal[i][d];
       }

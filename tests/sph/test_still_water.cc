@@ -10,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 
@@ -47,6 +48,55 @@ namespace
                << "  speed: max " << o.max_speed << ", bulk max " << o.bulk_max_speed << ", rms " << o.rms_speed << " m/s (sqrt(gH) = " << std::sqrt(g * H) << ")" << std::endl;
     return o;
   }
+
+  /// Still water at rest for @p seconds (Δt = 2e-3 s, SPH/Wetted walls on): the largest fluid
+  /// speed of any step and the final hydrostatic check.
+  struct Rest
+  {
+    double           max_speed = 0;
+    HydrostaticCheck last;
+  };
+
+  Rest stay_at_rest(const bool consistent, const double seconds)
+  {
+    const Scene scene = twinflow::testing::water_tank(0.5, 0.6, 0.4);
+    const double dx = 0.02;
+    HostParticles<2> P;
+    make_particles<2>(scene, dx, 3, 1000, P);
+    SphParameters prm;
+    prm.spacing            = dx;
+    prm.consistent         = consistent;
+    prm.wetted_walls       = true;
+    const EngineSettings s = make_engine_settings(scene, prm);
+    auto engine            = make_engine<2>("cpu", domain_box<2>(scene), s);
+    engine->set_particles(P);
+    Rest         rest;
+    const int    steps = static_cast<int>(std::lround(seconds / 2e-3));
+    for (int k = 0; k < steps; ++k)
+    {
+      const auto &r = engine->step(2e-3);
+      EXPECT_TRUE(r.pressure.converged) << "step " << k;
+      rest.max_speed = std::max(rest.max_speed, r.max_speed);
+      if (!(r.max_speed < 1)) // diverged: no point in going on
+        break;
+    }
+    engine->get_particles(P);
+    rest.last = hydrostatic_check<2>(scene, dx, P);
+    std::cout << "at rest for " << seconds << " s (" << (consistent ? "consistent" : "standard")
+              << "): max speed over the run " << rest.max_speed << " m/s (" << rest.max_speed / std::sqrt(9.8 * 0.4)
+              << " sqrt(gH)); final bulk pressure error max " << rest.last.max_relative_error << ", rms "
+              << rest.last.rms_relative_error << std::endl;
+    return rest;
+  }
+
+  /// Issue 14, item 2: at rest, every fluid particle slower than 1e-3 sqrt(gH) at every step,
+  /// and the bulk pressure within 1 % of hydrostatic at the end.
+  void expect_at_rest(const Rest &rest)
+  {
+    EXPECT_LT(rest.max_speed, 1e-3 * std::sqrt(9.8 * 0.4));
+    EXPECT_GT(rest.last.bulk_particles, 100u);
+    EXPECT_LT(rest.last.max_relative_error, 0.01);
+  }
 } // namespace
 
 TEST(StillWater, HydrostaticConsistent)
@@ -77,3 +127,16 @@ TEST(StillWater, HydrostaticStandard)
   EXPECT_LT(o.rms_speed, 0.03 * c);
   EXPECT_LT(o.max_speed, 0.15 * c);
 }
+
+// Walled still water at rest (issue 14, item 2), with SPH/Wetted walls (Eq. 64 with ρ0, wetted
+// wall markers mirror separation; engine_functors.inl). Without it the consistent run diverges
+// at t = 2.44 s. The 2 s runs are quick; the 10 s runs (label full) are test_sph_still_water_10s.
+TEST(StillWaterAtRest, ConsistentTwoSeconds) { expect_at_rest(stay_at_rest(true, 2)); }
+TEST(StillWaterAtRest, DISABLED_ConsistentTenSeconds) { expect_at_rest(stay_at_rest(true, 10)); }
+
+// The standard operators (Eq. 19-20) do not meet the bound yet: their surface rows (the
+// one-sided kernel) take about half the pressure gradient they need, and the top rows settle
+// into a compressed, jittering state (max speed 0.085 m/s, doc/benchmarks.md). Run with
+// --gtest_also_run_disabled_tests --gtest_filter='*Standard*' to see it.
+TEST(StillWaterAtRest, DISABLED_StandardTwoSeconds) { expect_at_rest(stay_at_rest(false, 2)); }
+TEST(StillWaterAtRest, DISABLED_StandardTenSeconds) { expect_at_rest(stay_at_rest(false, 10)); }

@@ -33,6 +33,7 @@ namespace twinflow::sph
     double      free_surface_neighbour_ratio  = 0;    ///< … or fewer neighbours than ratio · a full lattice support (0: off)
     double      shifting      = EngineSettings().shifting; ///< particle-shifting coefficient (0: off)
     double      shifting_velocity_floor = EngineSettings().shifting_velocity_floor; ///< shifting speed scale max(|u_i|, floor) [m/s]
+    bool        wetted_walls = EngineSettings().wetted_walls; ///< EngineSettings::wetted_walls
     double      time_step     = 1e-3;   ///< maximum step
     double      cfl           = 0.2;    ///< dt ≤ CFL h / max(|u|, U_ref)
     double      solver_tolerance = SolverSettings().tolerance;
