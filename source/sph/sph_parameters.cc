@@ -44,8 +44,8 @@ namespace twinflow::sph
                       "acts at rest (damps the row-pairing mode of the consistent operators next to walls) and "
                       "particles next to the free surface are not shifted; 0: |u| (Lind et al. 2012).");
     prm.declare_entry("Wetted walls", d.wetted_walls ? "true" : "false", Patterns::Bool(),
-                      "Wall BCE markers hold the liquid that wets them: their force-balance pressure (Eq. 64) "
-                      "uses rho0 instead of the fluid's summation density (consistent operators), and a marker "
+                      "Consistent operators: wall BCE markers hold the liquid that wets them: their force-balance "
+                      "pressure (Eq. 64) uses rho0 instead of the fluid's summation density, and a marker "
                       "with no free-surface particle in its support mirrors the fluid's motion away from the "
                       "wall as well as towards it. Keeps still water in a walled tank at rest (10 s); off by "
                       "default (the floating disk settles 3.4 % of R lower with it, doc/benchmarks.md).");

@@ -295,7 +295,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
         detail::ContinuityVelocity<dim> cont;
         cont.p        = particles();
         cont.nb       = neighbors(x);
-        cont.wetted_walls = settings.wetted_walls;
+        cont.wetted_walls = settings.wetted_walls && settings.consistent; // standard: no help (doc/benchmarks.md)
         cont.approach = ptr(u_approach);
         cont.out      = ptr(u_cont);
         for_each_particle(cont);
