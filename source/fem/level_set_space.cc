@@ -258,19 +258,15 @@ namespace twinflow::fem
   {
     TrilinosWrappers::MPI::Vector shape;
     reinit_owned(shape);
-    double now = 0, weight = 0;
     for (const auto i : owned_dofs)
     {
       const double f = std::clamp(static_cast<double>(v[i]), 0.0, 1.0);
       shape[i]       = f * (1 - f);
-      now += lumped[i] * v[i];
-      weight += lumped[i] * shape[i];
     }
-    now    = Utilities::MPI::sum(now, comm);
-    weight = Utilities::MPI::sum(weight, comm);
+    shape.compress(VectorOperation::insert);
+    const double now = integral(v), weight = integral(shape);
     if (weight <= 0)
       return;
-    shape.compress(VectorOperation::insert);
     v.add((target - now) / weight, shape);
     mesh_constraints.distribute(v);
   }
