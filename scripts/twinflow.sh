@@ -34,7 +34,7 @@ case "$mode" in
     ./build/twinflow "$scene"
     ;;
   test)
-    cd build && ctest -L quick --output-on-failure -j1
+    cd build && ctest -L quick --output-on-failure -j"$jobs"   # tests declare PROCESSORS: -jN never oversubscribes
     ;;
   *)
     echo "usage: scripts/twinflow.sh run [SCENE.prm] | test" >&2
