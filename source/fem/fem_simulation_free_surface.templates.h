@@ -175,8 +175,16 @@ namespace twinflow::fem
     energy_csv->append({t, m.kinetic_water, m.potential_water, e_water, e_all, divergence, dt,
                         double(tria.n_global_active_cells())});
     front_csv->append({t, m.x_front, m.max_water_speed, m.x_foremost, navier_stokes->max_velocity()});
-    volume_csv->append({t, m.water_volume, drift, correction->last_correction(),
-                        double(correction->last_newton_iterations())});
+    std::vector<double> volume_row{t, m.water_volume, drift, correction->last_correction(),
+                                   double(correction->last_newton_iterations())};
+    if (ibm)
+      volume_row.push_back(ls_space->water_volume(ncls->value(), [this](const Point<dim> &x) {
+        for (const auto &s : ibm->solids())
+          if (s->distance(x) < 0)
+            return true;
+        return false;
+      }));
+    volume_csv->append(volume_row);
     front_time.push_back(t);
     front_position.push_back(m.x_front);
     result.monitors["water volume"]               = m.water_volume;

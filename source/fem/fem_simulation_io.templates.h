@@ -71,8 +71,15 @@ namespace twinflow::fem
       // max speed: in the water, as SPH's (no air there); max speed all phases: what the CFL sees
       front_csv  = open("front.csv", {"time", "x_front", "max speed", "x_foremost", "max speed all phases"},
                         {"s", "m", "m/s", "m", "m/s"}, "front");
-      volume_csv = open("volume.csv", {"time", "water volume", "relative drift", "max correction", "newton iterations"},
-                        {"s", "m^dim", "-", "m", "-"}, "volume");
+      std::vector<std::string> cols{"time", "water volume", "relative drift", "max correction", "newton iterations"},
+        units{"s", "m^dim", "-", "m", "-"};
+      if (ibm)
+      {
+        // the level set's water inside the solids (their ghost region): not water the body displaces
+        cols.push_back("water inside solids");
+        units.push_back("m^dim");
+      }
+      volume_csv = open("volume.csv", cols, units, "volume");
     }
     else if (scene.monitors_contain("energy"))
       energy_csv = open("energy.csv", {"time", "kinetic energy", "divergence L2", "dt", "cells"},

@@ -228,8 +228,16 @@ namespace twinflow::fem
   template <int dim>
   double LevelSetSpace<dim>::water_volume(const TrilinosWrappers::MPI::Vector &phi) const
   {
+    return water_volume(phi, std::function<bool(const Point<dim> &)>());
+  }
+
+  template <int dim>
+  double LevelSetSpace<dim>::water_volume(const TrilinosWrappers::MPI::Vector         &phi,
+                                          const std::function<bool(const Point<dim> &)> &inside) const
+  {
     const QGauss<dim>   quad = nonlinear_quadrature();
-    FEValues<dim>       fev(map, finite_element, quad, update_values | update_JxW_values);
+    FEValues<dim>       fev(map, finite_element, quad,
+                            update_values | update_JxW_values | (inside ? update_quadrature_points : update_default));
     std::vector<double> phi_q(quad.size());
     double              v = 0;
     for (const auto &cell : dofs.active_cell_iterators())
@@ -239,7 +247,8 @@ namespace twinflow::fem
         fev.get_function_values(phi, phi_q);
         const double eps = epsilon(cell);
         for (unsigned int q = 0; q < quad.size(); ++q)
-          v += (1 - smoothed_heaviside(phi_q[q], eps)) * fev.JxW(q);
+          if (!inside || inside(fev.quadrature_point(q)))
+            v += (1 - smoothed_heaviside(phi_q[q], eps)) * fev.JxW(q);
       }
     return Utilities::MPI::sum(v, comm);
   }

@@ -40,6 +40,7 @@
 #include <map>
 #include <memory>
 #include <array>
+#include <functional>
 #include <set>
 #include <string>
 #include <vector>
@@ -137,6 +138,10 @@ namespace twinflow::fem
                            dealii::TrilinosWrappers::MPI::Vector       &theta) const;
     /// ∫(1 − H_ε(φ)): the water volume (the quadrature the mass correction uses).
     double water_volume(const dealii::TrilinosWrappers::MPI::Vector &phi) const;
+    /// ∫(1 − H_ε(φ)) over the points where @p inside is true (e.g. the water held inside an
+    /// immersed solid's ghost region).
+    double water_volume(const dealii::TrilinosWrappers::MPI::Vector            &phi,
+                        const std::function<bool(const dealii::Point<dim> &)> &inside) const;
     /// ∫v of a field of the space (Σ_i ∫ψ_i v_i over the constrained basis; owned or ghosted v).
     double integral(const dealii::TrilinosWrappers::MPI::Vector &v) const;
     /// Make ∫v = @p target for a fraction v ∈ [0, 1] (owned vector, constraints applied here) by
