@@ -354,6 +354,12 @@ namespace twinflow::sph
         result.timings["velocity solve"] += r.t_velocity;
         result.timings["pressure solve"] += r.t_pressure;
         result.timings["correction and update"] += r.t_update;
+        // where the mechanical energy change came from, summed over the run (EnergyBudget)
+        result.monitors["energy budget: viscous [J]"] += r.budget.viscous;
+        result.monitors["energy budget: body force work [J]"] += r.budget.body_force;
+        result.monitors["energy budget: pressure correction [J]"] += r.budget.pressure;
+        result.monitors["energy budget: potential of the move [J]"] += r.budget.potential;
+        result.monitors["energy budget: shifting [J]"] += r.budget.shifting;
         if (!std::isfinite(r.max_speed) || !std::isfinite(r.pressure.residual) ||
             (!r.pressure.converged && r.pressure.residual > 1e-1) || dt < 1e-10 * scene.end_time ||
             r.max_speed > 50 * u_ref)
@@ -520,6 +526,7 @@ namespace twinflow::sph
     s.mu                 = fluid.viscosity;
     s.consistent         = prm.consistent;
     s.alpha              = prm.alpha;
+    s.density_correction = prm.position_density_correction ? DensityCorrection::position : DensityCorrection::velocity;
     s.pressure_wall      = prm.neumann_walls ? PressureWall::neumann : PressureWall::bce;
     s.free_surface_ratio = prm.free_surface_ratio;
     s.free_surface_divergence = prm.free_surface_divergence_ratio * scene.dimension;

@@ -169,15 +169,53 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       compute_density_and_free_surface();
       assemble_operators_and_velocity_matrix(dt);
       report.t_assembly = clock.lap();
+      u_old.resize(n);
+      thrust::copy(exec, u.begin(), u.end(), u_old.begin());
+      const double ke0 = fluid_energy(u, false), pe0 = fluid_energy(x, true);
       predict_velocity(dt);
+      const double ke1 = fluid_energy(u, false);
+      report.budget.body_force = body_force_work(dt);
+      report.budget.viscous    = ke1 - ke0 - report.budget.body_force;
       report.t_velocity = clock.lap();
       solve_pressure(dt);
       report.pressure_noise = pressure_noise();
       report.t_pressure     = clock.lap();
       correct_and_move(dt);
       report.max_speed = max_fluid_speed();
+      report.budget.pressure = fluid_energy(u, false) - ke1;
+      report.budget.shifting = settings.shifting > 0 ? fluid_energy(x, true) - pe_moved : 0.0;
+      report.budget.potential = (settings.shifting > 0 ? pe_moved : fluid_energy(x, true)) - pe0;
       report.t_update  = clock.lap();
       return report;
+    }
+
+    /// Σ over fluid particles of ½ m0 |f_i|² (potential: false) or −m0 g·f_i (true).
+    double fluid_energy(const dvec<Vec<dim>> &f, const bool potential) const
+    {
+      detail::FluidEnergy<dim> e;
+      e.p         = particles();
+      e.u         = ptr(f);
+      e.x         = ptr(f);
+      e.m0        = m0;
+      e.potential = potential;
+      for (int d = 0; d < dim; ++d)
+        e.g[d] = settings.gravity[d];
+      const thrust::counting_iterator<int> first(0);
+      return thrust::transform_reduce(exec, first, first + n, e, 0.0, thrust::plus<double>());
+    }
+
+    /// Work of the body force over the velocity prediction (EnergyBudget::body_force).
+    double body_force_work(const double dt) const
+    {
+      detail::BodyForceWork<dim> w;
+      w.p     = particles();
+      w.u_old = ptr(u_old);
+      w.m0    = m0;
+      w.dt    = dt;
+      for (int d = 0; d < dim; ++d)
+        w.a[d] = settings.acceleration[d];
+      const thrust::counting_iterator<int> first(0);
+      return thrust::transform_reduce(exec, first, first + n, w, 0.0, thrust::plus<double>());
     }
 
     double max_fluid_speed() const override
@@ -341,13 +379,31 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       r.rhs             = ptr(rhs);
       for_each_particle(r);
       make_confined_rhs_compatible(); // confined flows only
-      if (settings.pressure_preconditioner == PressurePreconditioner::multigrid)
-      {
+      const bool multigrid_on = settings.pressure_preconditioner == PressurePreconditioner::multigrid;
+      if (multigrid_on)
         multigrid.setup(x, box, 2.0 * settings.h, nl.offsets, nl.indices, values);
-        report.pressure = bicgstab(nl.offsets, nl.indices, values, rhs, pressure, settings.pressure_solver, multigrid);
+      auto solve = [&](dvec<double> &solution) {
+        return multigrid_on ? bicgstab(nl.offsets, nl.indices, values, rhs, solution, settings.pressure_solver, multigrid)
+                            : bicgstab(nl.offsets, nl.indices, values, rhs, solution, settings.pressure_solver);
+      };
+      pressure_alpharessure = settings.density_correction == DensityCorrection::position && settings.alpha > 0;
+      if (pressure_alpharessure)
+      {
+        // The α-blended pressure p_α (Eq. 55) moves the particles; their velocity is projected with
+        // α = 0 (Eq. 52), so the density-error correction displaces particles without giving them
+        // kinetic energy. Warm start: last step's p (checkpointed, so restarts stay bit-exact).
+        pressure_alpha.resize(n);
+        thrust::copy(exec, pressure.begin(), pressure.end(), pressure_alpha.begin());
+        report.pressure = solve(pressure_alpha);
+        r.alpha = 0;
+        for_each_particle(r);
+        make_confined_rhs_compatible();
       }
+      const SolverResult result = solve(pressure);
+      if (pressure_alpharessure)
+        report.pressure.converged = report.pressure.converged && result.converged;
       else
-        report.pressure = bicgstab(nl.offsets, nl.indices, values, rhs, pressure, settings.pressure_solver);
+        report.pressure = result;
       remove_confined_pressure_level(); // confined flows only
     }
 
@@ -383,9 +439,31 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       compute_solid_forces(dt); // needs u*, p^{n+1}, ∇p and the step's positions: before the move
       if (settings.shifting > 0)
         thrust::copy(exec, x.begin(), x.end(), x_start.begin());
+      if (pressure_alpharessure)
+      {
+        // q = p_α − p: moves the particles, x^{n+1} = x^n + Δt u^{n+1} − Δt²/ρ0 ∇q, not their velocity
+        density_q.resize(n);
+        thrust::transform(exec, pressure_alpha.begin(), pressure_alpha.end(), pressure.begin(), density_q.begin(),
+                          thrust::minus<double>());
+        for (int d = 0; d < dim; ++d)
+          spmv(nl.offsets, nl.indices, A.gradient[d], density_q, grad_q[d]);
+        if (!settings.consistent)
+        {
+          detail::PairwisePressureGradient<dim> pg;
+          pg.p  = particles();
+          pg.p.pressure = ptr(density_q);
+          pg.nb = neighbors(x);
+          pg.A  = operators();
+          for (int d = 0; d < dim; ++d)
+            pg.grad_p[d] = ptr(grad_q[d]);
+          for_each_particle(pg);
+        }
+      }
       detail::CorrectAndMove<dim> cm;
       cm.p         = particles();
       cm.grad_p    = components(grad_p);
+      if (pressure_alpharessure)
+        cm.grad_q = components(grad_q);
       cm.box       = box;
       cm.dt        = dt;
       cm.inv_rho0  = 1.0 / settings.rho0;
@@ -395,7 +473,10 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       cm.u         = ptr(u);
       for_each_particle(cm);
       if (settings.shifting > 0)
+      {
+        pe_moved = fluid_energy(x, true);
         shift_particles(dt);
+      }
     }
 
     /// Fickian particle shifting (ShiftingDisplacement) from the step's start positions.
@@ -569,16 +650,17 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     OperatorMatrices<dim> A;
     CellMultigrid<dim> multigrid;
     dvec<Tensor2<dim>> G, L;
-    dvec<Vec<dim>>     x, x_start, u, u_cont, u_approach, wall_velocity, wall_acceleration, normal;
-    dvec<double>       pressure, rho, support, V, rhs, tmp, comp, div_u, values, grad_p[dim];
+    dvec<Vec<dim>>     x, x_start, u, u_old, u_cont, u_approach, wall_velocity, wall_acceleration, normal;
+    dvec<double>       pressure, pressure_alpha, density_q, grad_q[dim], rho, support, V, rhs, tmp, comp, div_u, values, grad_p[dim];
     dvec<int>          kind, surface, body;
     std::vector<std::array<double, 3>> forces, torques; ///< per solid, from the last step
     std::vector<std::array<double, 3>> torque_centres;  ///< per solid: `to` of its last MarkerMotion
     dvec<MarkerMotion>                 device_motions;  ///< move_solids' motions on the device
     int                solids = 0;
     static constexpr bool pin_confined_pressure = false;
-    double             m0 = 0;
+    double             m0 = 0, pe_moved = 0; ///< pe_moved: potential energy before the shift
     int                n = 0, pinned = -1;
+    bool               pressure_alpharessure = false;
     StepReport         report;
   };
 

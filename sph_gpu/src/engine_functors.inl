@@ -215,6 +215,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
   {
     ParticleView<dim> p; ///< kind, wall_velocity
     Components<dim>   grad_p;
+    Components<dim>   grad_q; ///< gradient of the position-only pressure (null: none)
     DomainBox<dim>    box;
     double            dt = 0, inv_rho0 = 0, margin = 0;
     int               open_face = -1; ///< EngineSettings::open_face: no wall there, nothing to keep out of
@@ -229,7 +230,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
       for (int d = 0; d < dim; ++d)
         u[i][d] -= dt * inv_rho0 * grad_p[d][i];
       for (int d = 0; d < dim; ++d)
-        x[i][d] += dt * u[i][d];
+        x[i][d] += dt * u[i][d] - (grad_q[0] ? dt * dt * inv_rho0 * grad_q[d][i] : 0.0);
       // Last-resort no-penetration of the domain walls: a fluid particle never enters the BCE
       // layers (whose pressure rows cannot push it back once inside). An open face has no layers:
       // fluid crosses it freely (the host removes it beyond, source/sph/open_boundary.cc).
@@ -411,4 +412,44 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
     ParticleView<dim> p; ///< kind, u
     TWINFLOW_HD double operator()(int i) const { return p.fluid(i) ? geometry::norm(p.u[i]) : 0.0; }
   };
+
+  /// Energy of fluid particle i for the step's energy budget (StepReport::budget): kinetic
+  /// ½ m0 |u_i|² (potential: false) or potential −m0 g·x_i (potential: true); 0 for markers.
+  template <int dim>
+  struct FluidEnergy
+  {
+    ParticleView<dim> p; ///< kind
+    const Vec<dim>   *u = nullptr, *x = nullptr;
+    double            m0 = 0, g[dim] = {};
+    bool              potential = false;
+    TWINFLOW_HD double operator()(int i) const
+    {
+      if (!p.fluid(i))
+        return 0.0;
+      double e = 0;
+      for (int d = 0; d < dim; ++d)
+        e += potential ? -m0 * g[d] * x[i][d] : 0.5 * m0 * u[i][d] * u[i][d];
+      return e;
+    }
+  };
+
+  /// Work of the body force over the prediction, m0 Δt a·(u^n + u*)/2 (a = gravity + body
+  /// force), for fluid particle i: the part of ΔKE of the prediction that is not viscous.
+  template <int dim>
+  struct BodyForceWork
+  {
+    ParticleView<dim> p; ///< kind, u (= u*)
+    const Vec<dim>   *u_old = nullptr;
+    double            m0 = 0, dt = 0, a[dim] = {};
+    TWINFLOW_HD double operator()(int i) const
+    {
+      if (!p.fluid(i))
+        return 0.0;
+      double w = 0;
+      for (int d = 0; d < dim; ++d)
+        w += a[d] * 0.5 * (u_old[i][d] + p.u[i][d]);
+      return m0 * dt * w;
+    }
+  };
+
 } // namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail

@@ -21,6 +21,12 @@ namespace twinflow::sph
 
   enum class PressureWall { bce, neumann }; ///< Eq. 64–65 or Eq. 66–67
 
+  /// How the density-invariance term of Eq. 55 (weight α) acts: `velocity`, Eq. 55 as written (the
+  /// α-blended pressure corrects the velocity, which keeps the kick as kinetic energy: the Martin &
+  /// Moyce energy rose 19 % at α = 1), or `position` (the α-blended pressure moves the particles,
+  /// the velocity is projected with α = 0; one more pressure solve per step).
+  enum class DensityCorrection { velocity, position };
+
   /// Preconditioner of the pressure solve: Jacobi or the cell-aggregation multigrid (multigrid.h).
   enum class PressurePreconditioner { jacobi, multigrid };
 
@@ -34,6 +40,7 @@ namespace twinflow::sph
     double             mu        = 1e-3;  ///< dynamic viscosity
     bool               consistent = true; ///< consistent (Eq. 22–23) or standard (Eq. 19–20) operators
     double             alpha      = 0.5;  ///< blend of Eq. 55/57: density-invariance weight
+    DensityCorrection  density_correction = DensityCorrection::position; ///< where the α term acts
     PressureWall       pressure_wall = PressureWall::bce;
     double             free_surface_ratio = 0.95; ///< fluid with ρ_i < ratio ρ0 gets p = 0
     double             free_surface_divergence = 0; ///< … or with ∇·r_i below this (0: density only)
@@ -84,9 +91,21 @@ namespace twinflow::sph
     }
   };
 
+  /// Where the step's mechanical energy change (fluid kinetic + potential, J or J/m in 2D)
+  /// came from: the sum of the members is the step's change of the total energy.
+  struct EnergyBudget
+  {
+    double viscous    = 0; ///< ΔKE of the velocity prediction less the body force's work
+    double body_force = 0; ///< work of gravity/body force over the prediction, m0 Δt a·(u^n + u*)/2
+    double pressure   = 0; ///< ΔKE of the correction u* → u^{n+1} (and of the wall clamp)
+    double potential  = 0; ///< ΔPE of the move x^n → x^n + Δt u^{n+1} (and of the wall clamp)
+    double shifting   = 0; ///< ΔPE of particle shifting
+  };
+
   /// What one step did (iterations, convergence, timings in seconds).
   struct StepReport
   {
+    EnergyBudget budget;
     SolverResult velocity[3], pressure;
     int          free_surface_particles = 0;
     int          correction_fallbacks   = 0;
