@@ -40,7 +40,7 @@ namespace twinflow::sph
     double             mu        = 1e-3;  ///< dynamic viscosity
     bool               consistent = true; ///< consistent (Eq. 22–23) or standard (Eq. 19–20) operators
     double             alpha      = 0.5;  ///< blend of Eq. 55/57: density-invariance weight
-    DensityCorrection  density_correction = DensityCorrection::position; ///< where the α term acts
+    DensityCorrection  density_correction = DensityCorrection::velocity; ///< where the α term acts
     PressureWall       pressure_wall = PressureWall::bce;
     double             free_surface_ratio = 0.95; ///< fluid with ρ_i < ratio ρ0 gets p = 0
     double             free_surface_divergence = 0; ///< … or with ∇·r_i below this (0: density only)
