@@ -12,7 +12,7 @@ namespace twinflow::sph
 {
   namespace
   {
-    constexpr char magic[8] = {'T', 'W', 'S', 'P', 'H', 'C', 'K', '1'};
+    constexpr char magic[8] = {'T', 'W', 'S', 'P', 'H', 'C', 'K', '2'};
 
     template <typename T>
     void put(std::ofstream &f, const T *data, const std::size_t count)
@@ -69,6 +69,9 @@ namespace twinflow::sph
       put(f, pos.next_output);
       put(f, n_outputs);
       put(f, pos.output_times.data(), pos.output_times.size());
+      const double budget[5] = {pos.budget.viscous, pos.budget.body_force, pos.budget.pressure, pos.budget.potential,
+                                pos.budget.shifting};
+      put(f, budget, 5);
       put(f, P.x.data(), P.size());
       put(f, P.u.data(), P.size());
       put(f, P.p.data(), P.size());
@@ -128,7 +131,7 @@ namespace twinflow::sph
     char m[sizeof(magic)];
     r.get(m, sizeof(m));
     if (std::memcmp(m, magic, sizeof(magic)) != 0)
-      throw InputError(entry + ": not a Twinflow SPH checkpoint (allowed: a checkpoint.bin written by SPH/Checkpoint interval)");
+      throw InputError(entry + ": not a Twinflow SPH checkpoint of this version (allowed: a checkpoint.bin written by SPH/Checkpoint interval of this build)");
     const auto d = r.get<std::int32_t>();
     if (d != dim)
       throw InputError(entry + ": the checkpoint is " + std::to_string(d) + "D, the scene " + std::to_string(dim) + "D");
@@ -146,6 +149,9 @@ namespace twinflow::sph
     pos.next_output = r.get<double>();
     pos.output_times.resize(r.get<std::uint64_t>());
     r.get(pos.output_times.data(), pos.output_times.size());
+    double budget[5];
+    r.get(budget, 5);
+    pos.budget = EnergyBudget{budget[0], budget[1], budget[2], budget[3], budget[4]};
     HostParticles<dim> c;
     c.x.resize(n), c.u.resize(n), c.p.resize(n), c.rho.resize(n);
     std::vector<std::int32_t> kinds(n);

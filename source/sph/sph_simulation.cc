@@ -293,10 +293,11 @@ namespace twinflow::sph
       double t = start.time, t_output = 0;
       double next_output = restart ? start.next_output : scene.output_interval;
       result.steps       = start.steps;
+      EnergyBudget budget = start.budget; // summed over the run, checkpointed with it
       const double checkpoint_interval = prm.checkpoint_interval;
       double       next_checkpoint     = t + checkpoint_interval;
       auto checkpoint = [&](const std::string &file, double time, std::size_t steps) {
-        write_checkpoint<dim>(dir + "/" + file, P, prm.spacing, RunPosition{time, steps, next_output, output_times});
+        write_checkpoint<dim>(dir + "/" + file, P, prm.spacing, RunPosition{time, steps, next_output, output_times, budget});
       };
       const double u_ref = scene.reference_velocity;
       while (t < scene.end_time * (1 - 1e-12))
@@ -354,12 +355,6 @@ namespace twinflow::sph
         result.timings["velocity solve"] += r.t_velocity;
         result.timings["pressure solve"] += r.t_pressure;
         result.timings["correction and update"] += r.t_update;
-        // where the mechanical energy change came from, summed over the run (EnergyBudget)
-        result.monitors["energy budget: viscous [J]"] += r.budget.viscous;
-        result.monitors["energy budget: body force work [J]"] += r.budget.body_force;
-        result.monitors["energy budget: pressure correction [J]"] += r.budget.pressure;
-        result.monitors["energy budget: potential of the move [J]"] += r.budget.potential;
-        result.monitors["energy budget: shifting [J]"] += r.budget.shifting;
         if (!std::isfinite(r.max_speed) || !std::isfinite(r.pressure.residual) ||
             (!r.pressure.converged && r.pressure.residual > 1e-1) || dt < 1e-10 * scene.end_time ||
             r.max_speed > 50 * u_ref)
@@ -384,6 +379,12 @@ namespace twinflow::sph
                                    "particle state (last_good_state.csv, and last_good_state.bin to restart from) are in " +
                                    dir);
         }
+        // where the mechanical energy change came from, summed over the run (EnergyBudget)
+        budget.viscous += r.budget.viscous;
+        budget.body_force += r.budget.body_force;
+        budget.pressure += r.budget.pressure;
+        budget.potential += r.budget.potential;
+        budget.shifting += r.budget.shifting;
         if (open.active())
         {
           engine->get_particles(P);
@@ -429,6 +430,12 @@ namespace twinflow::sph
       for (const auto &[k, v] : result.timings)
         summary.set_timer_section(k, v, result.steps - start.steps);
       io::add_front_reference_errors(scene, front_t, front_x, summary, result.monitors);
+      // where the mechanical energy change came from, summed over the run (EnergyBudget)
+      result.monitors["energy budget: viscous [J]"]               = budget.viscous;
+      result.monitors["energy budget: body force work [J]"]       = budget.body_force;
+      result.monitors["energy budget: pressure correction [J]"]   = budget.pressure;
+      result.monitors["energy budget: potential of the move [J]"] = budget.potential;
+      result.monitors["energy budget: shifting [J]"]              = budget.shifting;
       if (scene.reference_hydrostatic)
       {
         // Fluid at rest: final bulk pressure against rho |g| (H - dx/2 - y) (hydrostatic_check.h).

@@ -6,9 +6,10 @@
  * neighbours, operators and matrices are rebuilt every step), so a run restarted from a
  * checkpoint continues bit for bit as the uninterrupted run would (test_sph_checkpoint).
  *
- * File (binary, native byte order, `SPH/Checkpoint interval`): magic "TWSPHCK1", int32 dim,
+ * File (binary, native byte order, `SPH/Checkpoint interval`): magic "TWSPHCK2", int32 dim,
  * uint64 particle count, the spacing, time, step count, next output time, the output times
- * written so far, then x, u (dim doubles each), p, ρ (doubles) and the kinds (int32).
+ * written so far, the energy budget summed so far (5 doubles, EnergyBudget's order), then
+ * x, u (dim doubles each), p, ρ (doubles) and the kinds (int32).
  * It is written to `<file>.tmp` and renamed, so a run killed while writing keeps the previous one.
  */
 #include <twinflow_sph/engine.h>
@@ -26,6 +27,7 @@ namespace twinflow::sph
     std::size_t         steps       = 0;
     double              next_output = 0; ///< time of the next particle output
     std::vector<double> output_times;    ///< times of particles_0.vtu, particles_1.vtu, ...
+    EnergyBudget        budget;          ///< the energy budget summed over the steps so far
   };
 
   /// Writes @p P (x, u, p, ρ, kind) and @p pos to @p path (via path.tmp and a rename).
