@@ -200,6 +200,8 @@ namespace twinflow::fem
     std::vector<types::global_dof_index> indices(n);
     std::vector<double>         phi_q(nq), theta_q(nq), u_q(nq);
     std::vector<Tensor<1, dim>> grad_u(nq);
+    std::vector<double>         local;
+    const FEValuesExtractors::Scalar scalar(0);
     const MPI_Comm comm = space.communicator();
     double domain = 0;
     for (const auto i : space.owned())
@@ -222,10 +224,14 @@ namespace twinflow::fem
         if (!cell->is_locally_owned())
           continue;
         fev.reinit(cell);
-        fev.get_function_values(ncls.value(), phi_q);
-        fev.get_function_values(vof.value(), theta_q);
-        fev.get_function_values(correction, u_q);
-        fev.get_function_gradients(correction, grad_u);
+        for (auto [v, out] : {std::pair{&ncls.value(), &phi_q}, {&vof.value(), &theta_q}})
+        {
+          space.reader().gather(cell, *v, local);
+          fev[scalar].get_function_values_from_local_dof_values(local, *out);
+        }
+        space.reader().gather(cell, correction, local);
+        fev[scalar].get_function_values_from_local_dof_values(local, u_q);
+        fev[scalar].get_function_gradients_from_local_dof_values(local, grad_u);
         const double eps   = space.epsilon(cell);
         const double kappa = prm.correction_diffusion * LevelSetSpace<dim>::cell_size(cell);
         A = 0;

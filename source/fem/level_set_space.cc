@@ -92,6 +92,7 @@ namespace twinflow::fem
     dofs.distribute_dofs(finite_element);
     owned_dofs = dofs.locally_owned_dofs();
     DoFTools::extract_locally_relevant_dofs(dofs, relevant_dofs);
+    cells.reinit(dofs, owned_dofs, relevant_dofs, comm);
     mesh_constraints.clear();
     mesh_constraints.reinit(relevant_dofs);
     DoFTools::make_hanging_node_constraints(dofs, mesh_constraints);
@@ -408,16 +409,20 @@ namespace twinflow::fem
     if (!fev)
       fev = std::make_unique<FEValues<dim>>(space.mapping(), space.fe(), QGauss<dim>(n1d),
                                             update_values | update_gradients | update_quadrature_points);
-    fev->reinit(space.cell_of(cell));
+    const auto lcell = space.cell_of(cell);
+    fev->reinit(lcell);
     Assert(fev->quadrature_point(0).distance(points[0]) < 1e-8 * cell->diameter(),
            ExcMessage("TwoPhaseMaterial: quadrature points do not match"));
     values.resize(nq);
     phi.resize(nq);
     phi_old.resize(nq);
     phi_older.resize(nq);
-    fev->get_function_values(ncls->value(), phi);
-    fev->get_function_values(ncls->previous(), phi_old);
-    fev->get_function_values(ncls->older(), phi_older);
+    const FEValuesExtractors::Scalar scalar(0);
+    for (auto [v, out] : {std::pair{&ncls->value(), &phi}, {&ncls->previous(), &phi_old}, {&ncls->older(), &phi_older}})
+    {
+      space.reader().gather(lcell, *v, local);
+      (*fev)[scalar].get_function_values_from_local_dof_values(local, *out);
+    }
     const double eps = space.epsilon(cell);
     const double dr = fluids.rho_air - fluids.rho_water, dm = fluids.mu_air - fluids.mu_water;
     // ρ enters the momentum equation as its cell mean ρ̄_K: gravity ρ̄_K g is then balanced

@@ -41,10 +41,12 @@ namespace twinflow::fem
                                                                    cell->index(), &flow.velocity_dof_handler());
         const FEValuesExtractors::Vector vel(0);
         fvu.reinit(vcell);
-        fvu[vel].get_function_values(flow.velocity(), u);
-        fvu[vel].get_function_values(flow.previous_velocity(), u_old);
-        fvu[vel].get_function_divergences(flow.velocity(), div);
-        fvu[vel].get_function_divergences(flow.previous_velocity(), div_old);
+        flow.velocity_reader().gather(vcell, flow.velocity(), local);
+        flow.velocity_reader().gather(vcell, flow.previous_velocity(), local_old);
+        fvu[vel].get_function_values_from_local_dof_values(local, u);
+        fvu[vel].get_function_values_from_local_dof_values(local_old, u_old);
+        fvu[vel].get_function_divergences_from_local_dof_values(local, div);
+        fvu[vel].get_function_divergences_from_local_dof_values(local_old, div_old);
         for (unsigned int q = 0; q < u.size(); ++q)
         {
           u[q]   = 0.5 * (u[q] + u_old[q]);
@@ -57,6 +59,7 @@ namespace twinflow::fem
       FEValues<dim>               fvu;
       std::vector<Tensor<1, dim>> u, u_old; ///< u: the midpoint
       std::vector<double>         div, div_old;
+      std::vector<double>         local, local_old;
     };
   } // namespace
 
@@ -85,14 +88,17 @@ namespace twinflow::fem
     std::vector<double> val_old(nq), fval_old(face_quad.size());
     std::vector<double> s(n), adv(n);
     std::vector<Tensor<1, dim>> ds(n);
+    std::vector<double> local_old;
+    const FEValuesExtractors::Scalar scalar(0);
     for (const auto &cell : space.dof_handler().active_cell_iterators())
     {
       if (!cell->is_locally_owned())
         continue;
       fev.reinit(cell);
       const auto vcell = mid.reinit(cell);
-      fev.get_function_values(current, val_old);
-      fev.get_function_gradients(current, grad_old);
+      space.reader().gather(cell, current, local_old);
+      fev[scalar].get_function_values_from_local_dof_values(local_old, val_old);
+      fev[scalar].get_function_gradients_from_local_dof_values(local_old, grad_old);
       const double h     = LevelSetSpace<dim>::cell_size(cell) / fe.degree;
       const double nu_K  = nu ? (*nu)[cell->active_cell_index()] : 0.0;
       A = 0;

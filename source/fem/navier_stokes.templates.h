@@ -142,6 +142,8 @@ namespace twinflow::fem
     pressure_owned = pressure_dofs.locally_owned_dofs();
     DoFTools::extract_locally_relevant_dofs(velocity_dofs, velocity_relevant);
     DoFTools::extract_locally_relevant_dofs(pressure_dofs, pressure_relevant);
+    velocity_cells.reinit(velocity_dofs, velocity_owned, velocity_relevant, comm);
+    pressure_cells.reinit(pressure_dofs, pressure_owned, pressure_relevant, comm);
 
     make_velocity_constraints(current_time);
     make_pressure_constraints();
@@ -343,6 +345,8 @@ namespace twinflow::fem
     std::vector<types::global_dof_index> indices(n);
     std::vector<Tensor<1, dim>>          un(nq), unm1(nq);
     std::vector<double>                  div_un(nq), div_unm1(nq), p_val(nq), phi_val(nq), phim_val(nq);
+    std::vector<double>                  local_u, local_u_old, local_p;
+    const FEValuesExtractors::Scalar     scalar(0);
     std::vector<Vector<double>>          g_val(nq, Vector<double>(dim)), f_val(nq, Vector<double>(dim));
     std::vector<unsigned int>            comp(n);
     for (unsigned int i = 0; i < n; ++i)
@@ -380,13 +384,17 @@ namespace twinflow::fem
       fev.reinit(cell);
       const typename DoFHandler<dim>::active_cell_iterator pcell(&tria, cell->level(), cell->index(), &pressure_dofs);
       fep.reinit(pcell);
-      fev[vel].get_function_values(u_n, un);
-      fev[vel].get_function_values(u_nm1, unm1);
-      fev[vel].get_function_divergences(u_n, div_un);
-      fev[vel].get_function_divergences(u_nm1, div_unm1);
-      fep.get_function_values(p_n, p_val);
-      fep.get_function_values(phi_n, phi_val);
-      fep.get_function_values(phi_nm1, phim_val);
+      velocity_cells.gather(cell, u_n, local_u);
+      velocity_cells.gather(cell, u_nm1, local_u_old);
+      fev[vel].get_function_values_from_local_dof_values(local_u, un);
+      fev[vel].get_function_values_from_local_dof_values(local_u_old, unm1);
+      fev[vel].get_function_divergences_from_local_dof_values(local_u, div_un);
+      fev[vel].get_function_divergences_from_local_dof_values(local_u_old, div_unm1);
+      for (auto [v, out] : {std::pair{&p_n, &p_val}, {&phi_n, &phi_val}, {&phi_nm1, &phim_val}})
+      {
+        pressure_cells.gather(pcell, *v, local_p);
+        fep[scalar].get_function_values_from_local_dof_values(local_p, *out);
+      }
       material.evaluate(cell, fev.get_quadrature_points(), t_new, mat);
       if (acceleration) acceleration->vector_value_list(fev.get_quadrature_points(), g_val);
       if (force_density) force_density->vector_value_list(fev.get_quadrature_points(), f_val);
@@ -564,6 +572,7 @@ namespace twinflow::fem
     Vector<double>     cell_rhs(n);
     FullMatrix<double> cell_matrix(n, n);
     std::vector<double> div_u(quad.size());
+    std::vector<double> local_u;
     std::vector<types::global_dof_index> indices(n);
     const FEValuesExtractors::Vector vel(0);
     MaterialValues<dim> mat;
@@ -577,7 +586,8 @@ namespace twinflow::fem
         fep.reinit(cell);
         const typename DoFHandler<dim>::active_cell_iterator vcell(&tria, cell->level(), cell->index(), &velocity_dofs);
         fev.reinit(vcell);
-        fev[vel].get_function_divergences(u_n, div_u);
+        velocity_cells.gather(vcell, u_n, local_u);
+        fev[vel].get_function_divergences_from_local_dof_values(local_u, div_u);
         cell_rhs    = 0;
         cell_matrix = 0;
         if (variable)
@@ -637,6 +647,7 @@ namespace twinflow::fem
     Vector<double>     cell_rhs(n);
     std::vector<types::global_dof_index> indices(n);
     std::vector<Tensor<1, dim>> grad_phi(quad.size());
+    std::vector<double>         local_phi;
     std::vector<unsigned int>   comp(n);
     for (unsigned int i = 0; i < n; ++i)
       comp[i] = fe_velocity.system_to_component_index(i).first;
@@ -646,7 +657,8 @@ namespace twinflow::fem
         fev.reinit(cell);
         const typename DoFHandler<dim>::active_cell_iterator pcell(&tria, cell->level(), cell->index(), &pressure_dofs);
         fep.reinit(pcell);
-        fep.get_function_gradients(phi, grad_phi);
+        pressure_cells.gather(pcell, phi, local_phi);
+        fep[FEValuesExtractors::Scalar(0)].get_function_gradients_from_local_dof_values(local_phi, grad_phi);
         cell_rhs = 0;
         for (unsigned int q = 0; q < quad.size(); ++q)
           for (unsigned int i = 0; i < n; ++i)

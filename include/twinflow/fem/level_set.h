@@ -16,6 +16,7 @@
  * TwoPhaseMaterial hands ρ, μ (Eq. 9–10 with H_ε of Eq. 13, ε = factor × h_K) and the two
  * earlier densities ρ^n, ρ^{n−1} (for the √ρ form of the time derivative) to Navier–Stokes. A scene with one fluid constructs none of this.
  */
+#include <twinflow/fem/cell_dof_reader.h>
 #include <twinflow/fem/field_physics.h>
 #include <twinflow/fem/material_model.h>
 #include <twinflow/fem/mesh_adaptation.h>
@@ -116,6 +117,8 @@ namespace twinflow::fem
     const dealii::DynamicSparsityPattern      &sparsity() const { return dsp; }
     const dealii::IndexSet                    &owned() const { return owned_dofs; }
     const dealii::IndexSet                    &relevant() const { return relevant_dofs; }
+    /// Cell reads of ghosted fields of the space (no look-up, no allocation per cell).
+    const CellDofReader<dim>                  &reader() const { return cells; }
     /// ∫ψ_i of the constrained basis (owned entries).
     const dealii::TrilinosWrappers::MPI::Vector &lumped_mass() const { return lumped; }
     /// Support points of the locally owned DoFs.
@@ -162,6 +165,7 @@ namespace twinflow::fem
     dealii::MappingQ<dim>                              map;
     dealii::DoFHandler<dim>                            dofs;
     dealii::IndexSet                                   owned_dofs, relevant_dofs;
+    CellDofReader<dim>                                 cells;
     dealii::AffineConstraints<double>                  mesh_constraints;
     dealii::DynamicSparsityPattern                     dsp;
     dealii::TrilinosWrappers::MPI::Vector              lumped;
@@ -335,6 +339,7 @@ namespace twinflow::fem
     /// FEValues of the level-set space per Gauss quadrature size asked for (QGauss(n), n^dim points).
     mutable std::map<unsigned int, std::unique_ptr<dealii::FEValues<dim>>> fe_values;
     mutable std::vector<double>           phi, phi_old, phi_older;
+    mutable std::vector<double>           local;
   };
 
   /// What the free-surface monitors measure (collective).

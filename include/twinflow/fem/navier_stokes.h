@@ -13,6 +13,7 @@
  * Taylor–Hood Q_{k+1}/Q_k on a parallel::distributed::Triangulation, Trilinos vectors,
  * AMG-preconditioned GMRES (velocity) and CG (pressure increment).
  */
+#include <twinflow/fem/cell_dof_reader.h>
 #include <twinflow/fem/field_physics.h>
 #include <twinflow/fem/material_model.h>
 #include <twinflow/fem/momentum_term.h>
@@ -173,6 +174,9 @@ namespace twinflow::fem
     /// the midpoint velocity of the step.
     const dealii::TrilinosWrappers::MPI::Vector &previous_velocity() const { return u_nm1; }
     const dealii::Mapping<dim> &get_mapping() const { return mapping; }
+    /// Cell reads of the ghosted velocity vectors (velocity(), previous_velocity(), ...).
+    const CellDofReader<dim> &velocity_reader() const { return velocity_cells; }
+    const CellDofReader<dim> &pressure_reader() const { return pressure_cells; }
     const dealii::TimerOutput &timer() const { return timer_output; }
     /// Viscous stress form of the momentum equation: true for 2με(u), false for μ∇u.
     bool symmetric_stress() const { return prm.viscous_form == ViscousForm::symmetric; }
@@ -210,6 +214,7 @@ namespace twinflow::fem
     dealii::FE_Q<dim>                                  fe_pressure;
     dealii::DoFHandler<dim>                            velocity_dofs, pressure_dofs;
     dealii::IndexSet velocity_owned, velocity_relevant, pressure_owned, pressure_relevant;
+    CellDofReader<dim> velocity_cells, pressure_cells;
 
     std::map<dealii::types::boundary_id, std::shared_ptr<dealii::Function<dim>>> dirichlet;
     std::map<dealii::types::boundary_id, unsigned int> slip; ///< face → its normal axis

@@ -1,0 +1,80 @@
+#pragma once
+/**
+ * @file cell_dof_reader.h
+ * Fast reads of ghosted Trilinos vectors on the cells of one DoFHandler.
+ *
+ * `FEValues::get_function_values(trilinos_vector, ...)` allocates a dealii::Vector per call and
+ * finds every DoF through Epetra's global-to-local map (a hash look-up per entry): on the
+ * dam break at 8k cells these reads took ~10 % of a step. The reader computes, once per mesh
+ * (after distribute_dofs), the position of each locally owned cell's DoFs in the ghosted
+ * vector's local storage; `gather` then copies them with no look-up and no allocation, and
+ * the `*_from_local_dof_values` functions of FEValues(Views) evaluate them.
+ *
+ * Valid for every ghosted vector built on the same (owned, relevant) index sets as the one
+ * given to reinit(); gather() checks the size of the local storage.
+ */
+#include <deal.II/base/exceptions.h>
+#include <deal.II/base/index_set.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/lac/trilinos_vector.h>
+
+#include <Epetra_MultiVector.h>
+
+#include <vector>
+
+namespace twinflow::fem
+{
+  template <int dim>
+  class CellDofReader
+  {
+  public:
+    /// Positions of the DoFs of every locally owned cell of @p dofs in a ghosted vector on
+    /// (@p owned, @p relevant).
+    void reinit(const dealii::DoFHandler<dim> &dofs, const dealii::IndexSet &owned, const dealii::IndexSet &relevant,
+                MPI_Comm comm)
+    {
+      dealii::TrilinosWrappers::MPI::Vector probe(owned, relevant, comm);
+      const auto &map = probe.trilinos_vector().Map();
+      n_local         = map.NumMyElements();
+      per_cell        = dofs.get_fe().n_dofs_per_cell();
+      offset.assign(dofs.get_triangulation().n_active_cells(), -1);
+      positions.clear();
+      std::vector<dealii::types::global_dof_index> indices(per_cell);
+      for (const auto &cell : dofs.active_cell_iterators())
+        if (cell->is_locally_owned())
+        {
+          offset[cell->active_cell_index()] = static_cast<long>(positions.size());
+          cell->get_dof_indices(indices);
+          for (const auto i : indices)
+          {
+            const int lid = map.LID(static_cast<dealii::TrilinosWrappers::types::int_type>(i));
+            AssertThrow(lid >= 0, dealii::ExcMessage("CellDofReader: a cell's DoF is not in the relevant set."));
+            positions.push_back(lid);
+          }
+        }
+    }
+
+    /// The values of the ghosted vector @p v at the DoFs of the locally owned @p cell.
+    template <typename CellIterator>
+    void gather(const CellIterator &cell, const dealii::TrilinosWrappers::MPI::Vector &v,
+                std::vector<double> &out) const
+    {
+      const Epetra_MultiVector &ev = v.trilinos_vector();
+      AssertThrow(ev.MyLength() == n_local,
+                  dealii::ExcMessage("CellDofReader: the vector is not ghosted on the reader's index sets."));
+      const long start = offset[cell->active_cell_index()];
+      Assert(start >= 0, dealii::ExcMessage("CellDofReader: the cell is not locally owned."));
+      if (out.size() != per_cell)
+        out.resize(per_cell);
+      const double *data = ev[0];
+      for (unsigned int i = 0; i < per_cell; ++i)
+        out[i] = data[positions[start + i]];
+    }
+
+  private:
+    int                n_local  = 0;
+    unsigned int       per_cell = 0;
+    std::vector<long>  offset;    ///< by active_cell_index: start in positions, −1 if not owned
+    std::vector<int>   positions; ///< local storage index of each DoF of each owned cell
+  };
+} // namespace twinflow::fem
