@@ -143,6 +143,8 @@ namespace twinflow::fem
     DoFTools::extract_locally_relevant_dofs(velocity_dofs, velocity_relevant);
     DoFTools::extract_locally_relevant_dofs(pressure_dofs, pressure_relevant);
     velocity_cells.reinit(velocity_dofs, velocity_owned, velocity_relevant, comm);
+    velocity_scatter.clear();
+    mass_scatter.clear();
     pressure_cells.reinit(pressure_dofs, pressure_owned, pressure_relevant, comm);
 
     make_velocity_constraints(current_time);
@@ -490,14 +492,20 @@ namespace twinflow::fem
       for (const auto *term : active_terms)
         term->assemble(term_cell, cell_matrix, cell_rhs);
       cell->get_dof_indices(indices);
-      velocity_constraints.distribute_local_to_global(cell_matrix, cell_rhs, indices, velocity_matrix, velocity_rhs);
-      if (with_mass)
+      if (!velocity_scatter.ready() || !velocity_scatter.add(cell, cell_matrix, &cell_rhs, &velocity_rhs))
+        velocity_constraints.distribute_local_to_global(cell_matrix, cell_rhs, indices, velocity_matrix, velocity_rhs);
+      if (with_mass && (!mass_scatter.ready() || !mass_scatter.add(cell, cell_mass)))
         velocity_constraints.distribute_local_to_global(cell_mass, indices, velocity_mass);
     }
     velocity_matrix.compress(VectorOperation::add);
     velocity_rhs.compress(VectorOperation::add);
     if (with_mass)
       velocity_mass.compress(VectorOperation::add);
+    // the sparsity is final after the first compress on a mesh (CellScatter)
+    if (!velocity_scatter.ready())
+      velocity_scatter.reinit(velocity_dofs, velocity_constraints, velocity_matrix, velocity_rhs);
+    if (with_mass && !mass_scatter.ready())
+      mass_scatter.reinit(velocity_dofs, velocity_constraints, velocity_mass, velocity_rhs);
   }
 
   template <int dim>

@@ -14,6 +14,7 @@
  * AMG-preconditioned GMRES (velocity) and CG (pressure increment).
  */
 #include <twinflow/fem/cell_dof_reader.h>
+#include <twinflow/fem/cell_scatter.h>
 #include <twinflow/fem/field_physics.h>
 #include <twinflow/fem/material_model.h>
 #include <twinflow/fem/momentum_term.h>
@@ -215,6 +216,7 @@ namespace twinflow::fem
     dealii::DoFHandler<dim>                            velocity_dofs, pressure_dofs;
     dealii::IndexSet velocity_owned, velocity_relevant, pressure_owned, pressure_relevant;
     CellDofReader<dim> velocity_cells, pressure_cells;
+    CellScatter<dim>   velocity_scatter, mass_scatter; ///< set up after the first assembly on a mesh
 
     std::map<dealii::types::boundary_id, std::shared_ptr<dealii::Function<dim>>> dirichlet;
     std::map<dealii::types::boundary_id, unsigned int> slip; ///< face → its normal axis
