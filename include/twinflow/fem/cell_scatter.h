@@ -34,8 +34,8 @@ namespace twinflow::fem
   {
   public:
     /// Forgets the positions (call when the DoFs or the matrix's sparsity change).
-    void clear() { ready_ = false; }
-    bool ready() const { return ready_; }
+    void clear() { offset.clear(); }
+    bool ready() const { return !offset.empty(); }
 
     /// Positions of the entries of each owned, unconstrained cell of @p dofs in @p matrix
     /// (which must have its final sparsity) and of its rows in the owned vector @p rhs.
@@ -57,7 +57,7 @@ namespace twinflow::fem
           continue;
         cell->get_dof_indices(indices);
         bool fast = true;
-        for (unsigned int i = 0; i < per_cell && fast; ++i)
+        for (unsigned int i = 0; i < per_cell; ++i)
         {
           const auto gi  = static_cast<dealii::TrilinosWrappers::types::int_type>(indices[i]);
           const int  lid = A.RowMap().LID(gi);
@@ -89,7 +89,6 @@ namespace twinflow::fem
         rhs_entries.insert(rhs_entries.end(), row_rhs.begin(), row_rhs.end());
         entries.insert(entries.end(), row_entries.begin(), row_entries.end());
       }
-      ready_ = true;
     }
 
     /// Adds @p M (and @p b into @p rhs, when given) for @p cell; false if the cell has no fast
@@ -121,7 +120,6 @@ namespace twinflow::fem
     }
 
   private:
-    bool                  ready_   = false;
     unsigned int          per_cell = 0;
     std::vector<long>     offset;      ///< by active_cell_index: first row in rows, −1 if no fast path
     std::vector<double *> rows;        ///< Epetra's value storage of each row of each fast cell
