@@ -323,7 +323,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     }
 
     /// ∇·u* (Eq. 41) of the continuity velocity (ContinuityVelocity; Neumann walls: u*).
-    void compute_velocity_divergence()
+    void compute_velocity_divergence(const double dt)
     {
       u_cont.resize(n);
       if (settings.pressure_wall == PressureWall::neumann)
@@ -334,6 +334,10 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
         cont.p        = particles();
         cont.nb       = neighbors(x);
         cont.wetted_walls = settings.wetted_walls && settings.consistent; // standard: no help (doc/benchmarks.md)
+        double g2 = 0;
+        for (int d = 0; d < dim; ++d)
+          g2 += settings.gravity[d] * settings.gravity[d];
+        cont.max_separation = std::sqrt(g2) * dt;
         cont.approach = ptr(u_approach);
         cont.out      = ptr(u_cont);
         for_each_particle(cont);
@@ -351,7 +355,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     /// the free surface, Eq. 64–65 or 66–67 for the BCE markers; confined flows made solvable.
     void solve_pressure(const double dt)
     {
-      compute_velocity_divergence();
+      compute_velocity_divergence(dt);
       const bool                  neumann = settings.pressure_wall == PressureWall::neumann;
       detail::PressureMatrix<dim> m;
       m.p        = particles();

@@ -181,22 +181,22 @@ TEST(OpenTop, StillWaterBelowItStaysAtRest)
   EXPECT_LT(tall.bulk_max_speed, 0.01 * c);
   EXPECT_LT(tall.rms_speed, 0.01 * c);
   EXPECT_LT(tall.max_speed, 0.1 * c);
-  // the water one spacing below the open top (the side walls end one row above the surface):
-  // at rest, bulk pressure within 5 % (measured max 2.8 %, rms 1.5 %, bulk speeds 1.5 mm/s).
-  // A lid one spacing above the water instead disturbs it far more (measured max 26 %, rms
-  // 6.4 %, bulk speeds 0.17 m/s): the open top is the better model of a tank filled to the brim
+  // the water one spacing below the open top (the side walls end one row above the surface)
+  // and the same tank closed by a lid one spacing above the water: both at rest, the bounds of
+  // issue 14 (bulk pressure within 1 % of hydrostatic, speeds below 1e-3 sqrt(gH)). Measured
+  // (default wetted walls): 2.9e-5 / 3.8e-5, speeds 5e-5 m/s. Before wetted walls became the
+  // default, the lid disturbed it (max 26 %, bulk speeds 0.17 m/s) and the open top did not
+  // (2.8 %).
   const HydrostaticCheck full = still_water(0.42, true, removed);
   EXPECT_EQ(removed, 0u);
   std::size_t            none = 0;
   const HydrostaticCheck lid  = still_water(0.42, false, none);
-  EXPECT_GT(full.bulk_particles, 100u);
-  EXPECT_LT(full.max_relative_error, 0.05);
-  EXPECT_LT(full.rms_relative_error, 0.02);
-  EXPECT_LT(full.bulk_max_speed, 0.01 * c);
-  EXPECT_LT(full.rms_speed, 0.01 * c);
-  EXPECT_LT(full.max_speed, 0.1 * c);
-  EXPECT_LT(full.rms_relative_error, 0.5 * lid.rms_relative_error);
-  EXPECT_LT(full.bulk_max_speed, 0.1 * lid.bulk_max_speed);
+  for (const HydrostaticCheck *o : {&full, &lid})
+  {
+    EXPECT_GT(o->bulk_particles, 100u);
+    EXPECT_LT(o->max_relative_error, 0.01);
+    EXPECT_LT(o->max_speed, 1e-3 * c);
+  }
 }
 
 namespace
@@ -216,17 +216,12 @@ namespace
     return scene;
   }
 
-  /// The settings of the paper's dam break (parameters/dam_break.prm) at a/10.
+  /// The settings of the paper's dam break (parameters/dam_break.prm: the defaults) at a/10.
   SphParameters dam_break_parameters()
   {
     SphParameters prm;
-    prm.spacing                       = 0.005715;
-    prm.shifting                      = 5;
-    prm.time_step                     = 5e-4;
-    prm.free_surface_divergence_ratio = 0.75;
-    prm.free_surface_neighbour_ratio  = 0.6;
-    prm.positive_definite_laplacian   = true;
-    prm.relax_over_reference_step     = true;
+    prm.spacing   = 0.005715;
+    prm.time_step = 5e-4;
     return prm;
   }
 } // namespace

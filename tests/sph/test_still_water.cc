@@ -19,7 +19,7 @@ using namespace twinflow::sph;
 
 namespace
 {
-  HydrostaticCheck still_water(bool consistent, double alpha, PressureWall walls)
+  HydrostaticCheck still_water(bool consistent, double alpha, PressureWall walls, bool paper_surface = false)
   {
     const Scene scene = twinflow::testing::water_tank(0.5, 0.6, 0.4);
 
@@ -31,6 +31,8 @@ namespace
     prm.consistent = consistent;
     prm.alpha      = alpha;
     prm.neumann_walls = walls == PressureWall::neumann;
+    if (paper_surface) // the paper's form: the density criterion alone, no shifting
+      prm.free_surface_divergence_ratio = prm.free_surface_neighbour_ratio = prm.shifting = 0;
     const EngineSettings s = make_engine_settings(scene, prm);
     auto engine = make_engine<2>("cpu", domain_box<2>(scene), s);
     engine->set_particles(P);
@@ -65,8 +67,7 @@ namespace
     make_particles<2>(scene, dx, 3, 1000, P);
     SphParameters prm;
     prm.spacing            = dx;
-    prm.consistent         = consistent;
-    prm.wetted_walls       = true;
+    prm.consistent         = consistent; // the defaults: wetted walls
     const EngineSettings s = make_engine_settings(scene, prm);
     auto engine            = make_engine<2>("cpu", domain_box<2>(scene), s);
     engine->set_particles(P);
@@ -104,11 +105,10 @@ TEST(StillWater, HydrostaticConsistent)
   const HydrostaticCheck o = still_water(true, 0.5, PressureWall::bce);
   EXPECT_GT(o.bulk_particles, 100u);
   EXPECT_LT(o.max_relative_error, 0.01);
-  // at rest: bulk speeds below 1 % of the gravity-wave speed; the free-surface layer
-  // (corners next to the walls) jitters more, bounded by 10 %
-  EXPECT_LT(o.bulk_max_speed, 0.01 * std::sqrt(9.8 * 0.4));
-  EXPECT_LT(o.rms_speed, 0.01 * std::sqrt(9.8 * 0.4));
-  EXPECT_LT(o.max_speed, 0.1 * std::sqrt(9.8 * 0.4));
+  // at rest with the defaults (wetted walls): every particle slower than 1e-3 sqrt(gH), the
+  // bound of issue 14 (measured 5.0e-5 m/s, bulk error 2.9e-5; with the defaults of before,
+  // 0.96 % and a 0.1 sqrt(gH) jitter of the corners next to the walls)
+  EXPECT_LT(o.max_speed, 1e-3 * std::sqrt(9.8 * 0.4));
 }
 
 TEST(StillWater, HydrostaticStandard)
@@ -118,7 +118,10 @@ TEST(StillWater, HydrostaticStandard)
   // layers settle into a compressed state instead of staying on the lattice. Measured after 1 s:
   // bulk pressure error max 16 %, rms 5.5 %; speed max 0.12, bulk max 0.079, rms 0.031 m/s
   // (before the pair form: max error 2300 %, speeds up to 5.3 m/s, the water breaking up).
-  const HydrostaticCheck o = still_water(false, 0.5, PressureWall::bce);
+  // The paper's surface (density criterion, no shifting): the scene defaults for splashing flows
+  // (shifting, the divergence and neighbour criteria) feed on this jitter (max error 188 %,
+  // speeds 0.45 m/s), so a standard-operator scene at rest switches them off.
+  const HydrostaticCheck o = still_water(false, 0.5, PressureWall::bce, true);
   const double  c = std::sqrt(9.8 * 0.4);
   EXPECT_GT(o.bulk_particles, 100u);
   EXPECT_LT(o.max_relative_error, 0.3);
@@ -128,7 +131,7 @@ TEST(StillWater, HydrostaticStandard)
   EXPECT_LT(o.max_speed, 0.15 * c);
 }
 
-// Walled still water at rest (issue 14, item 2), with SPH/Wetted walls (Eq. 64 with ρ0, wetted
+// Walled still water at rest (issue 14, item 2), with SPH/Wetted walls (the default; Eq. 64 with ρ0, wetted
 // wall markers mirror separation; engine_functors.inl). Without it the consistent run diverges
 // at t = 2.44 s. The 2 s runs are quick; the 10 s runs (label full) are test_sph_still_water_10s.
 TEST(StillWaterAtRest, ConsistentTwoSeconds) { expect_at_rest(stay_at_rest(true, 2)); }

@@ -30,8 +30,8 @@ namespace twinflow::sph
     bool        position_density_correction = EngineSettings().density_correction == DensityCorrection::position;
     bool        neumann_walls = EngineSettings().pressure_wall == PressureWall::neumann;
     double      free_surface_ratio = EngineSettings().free_surface_ratio;
-    double      free_surface_divergence_ratio = 0;    ///< surface also where div r < ratio · dim (0: off)
-    double      free_surface_neighbour_ratio  = 0;    ///< … or fewer neighbours than ratio · a full lattice support (0: off)
+    double      free_surface_divergence_ratio = 0.6;      ///< surface also where div r < ratio · dim (0: off)
+    double      free_surface_neighbour_ratio  = 0.6;    ///< … or fewer neighbours than ratio · a full lattice support (0: off)
     double      shifting      = EngineSettings().shifting; ///< particle-shifting coefficient (0: off)
     double      shifting_velocity_floor = EngineSettings().shifting_velocity_floor; ///< shifting speed scale max(|u_i|, floor) [m/s]
     bool        wetted_walls = EngineSettings().wetted_walls; ///< EngineSettings::wetted_walls
@@ -42,8 +42,8 @@ namespace twinflow::sph
     /// pressure preconditioner: multigrid (else Jacobi)
     bool        multigrid = EngineSettings().pressure_preconditioner == PressurePreconditioner::multigrid;
     /// L_i = I where L_i is not SPD
-    bool        positive_definite_laplacian = CorrectionChecks().positive_definite_laplacian;
-    bool        relax_over_reference_step   = false; ///< density error removed over Δt_ref, not Δt
+    bool        positive_definite_laplacian = EngineSettings().correction_checks.positive_definite_laplacian;
+    bool        relax_over_reference_step   = true;  ///< density error removed over Δt_ref, not Δt
     double      checkpoint_interval = 0;  ///< simulated time between checkpoints (0: none)
     std::string restart_file;             ///< checkpoint to continue from (empty: fresh start)
 

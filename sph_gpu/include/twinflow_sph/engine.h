@@ -46,11 +46,11 @@ namespace twinflow::sph
     double             free_surface_divergence = 0; ///< … or with ∇·r_i below this (0: density only)
     double             free_surface_min_neighbours = 0; ///< … or with fewer neighbours, itself included (0: off)
     bool               free_surface = true;       ///< false: no p = 0 particles (confined flow)
-    double             shifting     = 0;          ///< particle-shifting coefficient A (0: off)
+    double             shifting     = 5;          ///< particle-shifting coefficient A (0: off)
     double             shifting_velocity_floor = 0; ///< D = A h max(|u_i|, this) Δt (0: |u_i|, the paper's form)
     /// consistent operators: wall markers hold the liquid that wets them, Eq. 64 with ρ0 and the
     /// motion away from a wetted marker mirrored in the continuity source (ContinuityVelocity)
-    bool               wetted_walls = false;
+    bool               wetted_walls = true;
     std::array<double, 3> acceleration{{0, 0, 0}}; ///< gravity + body force
     std::array<double, 3> gravity{{0, 0, 0}};      ///< g of Eq. 61/64
     SolverSettings     velocity_solver, pressure_solver;
@@ -59,8 +59,9 @@ namespace twinflow::sph
     /// max(Δt, this); 0: Δt (the paper). A longer time keeps a CFL step shortened by a few fast
     /// particles from stiffening the correction as 1/Δt² (fast particle → small Δt → larger kicks)
     double             density_relaxation_time = 0;
-    /// conditioning checks of the consistent corrections (CorrectionChecks; default: none)
-    CorrectionChecks   correction_checks;
+    /// conditioning checks of the consistent corrections (CorrectionChecks): the engine keeps
+    /// every pressure row elliptic (an operator on its own is exact by default)
+    CorrectionChecks   correction_checks{true};
     /// face without BCE markers that fluid may cross (open top: 2 axis + 1 for the upper face of
     /// direction axis, 2 axis for the lower; −1: none): the last-resort clamp that keeps fluid
     /// inside the box skips it; the host removes the particles beyond (sph/open_boundary.h)
