@@ -25,8 +25,15 @@ namespace twinflow::sph
     template <typename T>
     using dvec = thrust::device_vector<T>;
 
-    /// Execution policy of the backend.
+    /// Execution policy of the backend. CUDA: `par_nosync`, so that a kernel launch does not
+    /// wait for the GPU to finish (with thrust::device every for_each synchronises: one
+    /// multigrid-BiCGStab iteration, ~150 launches, took 3–4 ms at any size on an H200,
+    /// doc/performance.md); algorithms that return a value to the host still synchronise.
+#if defined(__CUDACC__) && THRUST_DEVICE_SYSTEM == THRUST_DEVICE_SYSTEM_CUDA
+    inline constexpr auto &exec = thrust::cuda::par_nosync;
+#else
     inline constexpr auto &exec = thrust::device;
+#endif
 
     template <int dim>
     using Vec = geometry::Vec<dim>;
