@@ -30,7 +30,7 @@ namespace twinflow::sph
     bool        position_density_correction = EngineSettings().density_correction == DensityCorrection::position;
     bool        neumann_walls = EngineSettings().pressure_wall == PressureWall::neumann;
     double      free_surface_ratio = EngineSettings().free_surface_ratio;
-    double      free_surface_divergence_ratio = 0.6;      ///< surface also where div r < ratio · dim (0: off)
+    double      free_surface_divergence_ratio = 0.6;    ///< surface also where div r < ratio · dim (0: off)
     double      free_surface_neighbour_ratio  = 0.6;    ///< … or fewer neighbours than ratio · a full lattice support (0: off)
     double      shifting      = EngineSettings().shifting; ///< particle-shifting coefficient (0: off)
     double      shifting_velocity_floor = EngineSettings().shifting_velocity_floor; ///< shifting speed scale max(|u_i|, floor) [m/s]

@@ -49,7 +49,8 @@ namespace twinflow::sph
     double             shifting     = 5;          ///< particle-shifting coefficient A (0: off)
     double             shifting_velocity_floor = 0; ///< D = A h max(|u_i|, this) Δt (0: |u_i|, the paper's form)
     /// consistent operators: wall markers hold the liquid that wets them, Eq. 64 with ρ0 and the
-    /// motion away from a wetted marker mirrored in the continuity source (ContinuityVelocity)
+    /// motion away from a wetted marker mirrored, up to |g| Δt, in the continuity source
+    /// (ContinuityVelocity)
     bool               wetted_walls = true;
     std::array<double, 3> acceleration{{0, 0, 0}}; ///< gravity + body force
     std::array<double, 3> gravity{{0, 0, 0}};      ///< g of Eq. 61/64
