@@ -13,8 +13,8 @@ end=$(/usr/bin/python3 -c "print($steps * $dt)")
 scene=$(mktemp --suffix=.prm)
 sed -e "s/set End time         = 2.5/set End time         = $end/" \
     -e "s/set Output interval  = 0.05/set Output interval  = 0/" \
-    -e "s/set CFL number        = 0.2/set CFL number        = 0/" \
-    -e "s/set Time step         = 1e-3/set Time step         = $dt\n  set Backend = $backend\n  set Max iterations = 20000/" \
+    -e "s/set CFL number        = 1/set CFL number        = 0/" \
+    -e "s/set Time step         = 2e-3/set Time step         = $dt\n  set Backend = $backend\n  set Max iterations = 20000/" \
     "$root/parameters/dam_break.prm" > "$scene"
 "${TWINFLOW_BIN:-$root/build/twinflow}" "$scene" -o "$out"
 rm -f "$scene"

@@ -48,6 +48,18 @@ namespace twinflow::sph
                       "Speed scale of particle shifting: dr = -A h max(|u|, floor) dt grad C [m/s]. > 0: shifting also "
                       "acts at rest (damps the row-pairing mode of the consistent operators next to walls) and "
                       "particles next to the free surface are not shifted; 0: |u| (Lind et al. 2012).");
+    prm.declare_entry("Minimum pair distance", to_string(d.min_pair_distance), Patterns::Double(0, 0.9),
+                      "Fluid particles closer than this fraction of the spacing, one of them a free-surface "
+                      "particle, are pushed apart to it, along the line joining them, at the end of each step "
+                      "(velocities unchanged; not next to a solid body). Free-surface particles (p = 0) feel no "
+                      "pressure and are not shifted, and a kernel's gradient vanishes at r = 0, so nothing else "
+                      "separates a pair that has formed; a pair swept back into the water compresses its support "
+                      "by up to 20 % and is kicked out by the density-invariance pressure. 0: off.");
+    prm.declare_entry("Limit pressure peaks", d.limit_pressure_peaks ? "true" : "false", Patterns::Bool(),
+                      "Consistent operators: a fluid particle whose pressure is a strict local maximum (above every "
+                      "neighbour) gets a zero pressure gradient, the gradient of a smooth field at its maximum. "
+                      "Otherwise the one-sided consistent gradient of such a particle at the edge of colliding "
+                      "splash sheets pulls it into its neighbours and ejects it (spray kicks). Not next to a solid.");
     prm.declare_entry("Wetted walls", d.wetted_walls ? "true" : "false", Patterns::Bool(),
                       "Consistent operators: wall BCE markers hold the liquid that wets them: their force-balance "
                       "pressure (Eq. 64) uses rho0 instead of the fluid's summation density, and a marker "
@@ -97,6 +109,8 @@ namespace twinflow::sph
     shifting           = prm.get_double("Particle shifting");
     shifting_velocity_floor = prm.get_double("Shifting velocity floor");
     wetted_walls            = prm.get_bool("Wetted walls");
+    min_pair_distance       = prm.get_double("Minimum pair distance");
+    limit_pressure_peaks    = prm.get_bool("Limit pressure peaks");
     time_step = prm.get_double("Time step");
     require(time_step > 0, "SPH/Time step", prm.get("Time step"), "the time step must be > 0");
     cfl              = prm.get_double("CFL number");

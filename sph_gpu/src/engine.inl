@@ -181,10 +181,12 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       report.pressure_noise = pressure_noise();
       report.t_pressure     = clock.lap();
       correct_and_move(dt);
+      const double separation_pe = separate_close_pairs();
       report.max_speed = max_fluid_speed();
       report.budget.pressure = fluid_energy(u, false) - ke1;
-      report.budget.shifting = settings.shifting > 0 ? fluid_energy(x, true) - pe_moved : 0.0;
-      report.budget.potential = (settings.shifting > 0 ? pe_moved : fluid_energy(x, true)) - pe0;
+      // the shifting's and the pair separation's potential-energy changes (positions only)
+      report.budget.shifting  = settings.shifting > 0 ? fluid_energy(x, true) - pe_moved : separation_pe;
+      report.budget.potential = (settings.shifting > 0 ? pe_moved : fluid_energy(x, true) - separation_pe) - pe0;
       report.t_update  = clock.lap();
       return report;
     }
@@ -266,6 +268,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       f.ratio                = settings.free_surface_ratio;
       f.divergence_threshold = settings.free_surface_divergence;
       f.min_neighbours       = settings.free_surface_min_neighbours;
+      f.min_fluid_neighbours = settings.free_surface_min_fluid_neighbours;
       f.free_surface         = settings.free_surface;
       f.rho                  = ptr(rho);
       f.support              = ptr(support);
@@ -430,6 +433,15 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     {
       for (int d = 0; d < dim; ++d)
         spmv(nl.offsets, nl.indices, A.gradient[d], pressure, grad_p[d]);
+      if (settings.consistent && settings.limit_pressure_peaks)
+      {
+        detail::PeakGradientLimiter<dim> lim;
+        lim.p  = particles();
+        lim.nb = neighbors(x);
+        for (int d = 0; d < dim; ++d)
+          lim.grad_p[d] = ptr(grad_p[d]);
+        for_each_particle(lim);
+      }
       if (!settings.consistent)
       {
         detail::PairwisePressureGradient<dim> pg;
@@ -481,6 +493,26 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
         pe_moved = fluid_energy(x, true);
         shift_particles(dt);
       }
+    }
+
+    /// Pushes fluid pairs closer than settings.min_pair_distance Δx apart (PairSeparation), at the
+    /// end of the step (after the move and the shifting, with this step's free-surface flags and
+    /// neighbour list: a checkpoint restarts bit-exactly); the moves are ≤ ¼ Δx for the default
+    /// ½ Δx. Returns the change of potential energy, booked with the shifting's.
+    double separate_close_pairs()
+    {
+      if (!(settings.min_pair_distance > 0) || n == 0)
+        return 0.0;
+      const double pe = fluid_energy(x, true);
+      x_start.resize(n);
+      thrust::copy(exec, x.begin(), x.end(), x_start.begin());
+      detail::PairSeparation<dim> sep;
+      sep.p            = particles();
+      sep.nb           = neighbors(x_start);
+      sep.min_distance = settings.min_pair_distance * settings.spacing;
+      sep.x            = ptr(x);
+      for_each_particle(sep);
+      return fluid_energy(x, true) - pe;
     }
 
     /// Fickian particle shifting (ShiftingDisplacement) from the step's start positions.

@@ -19,17 +19,21 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
     double            ratio                = 0; ///< ρ_i < ratio ρ0: free surface
     double            divergence_threshold = 0; ///< ∇·r_i below this: free surface
     double            min_neighbours = 0; ///< fewer neighbours (all kinds, itself included): free surface
+    double            min_fluid_neighbours = 0; ///< fewer fluid neighbours (itself excluded): a droplet, free surface
     bool              free_surface   = true;
     double           *rho = nullptr, *support = nullptr;
     int              *surface = nullptr;
     TWINFLOW_HD void operator()(int i) const
     {
       double sum = 0, fluid_sum = 0, div_r = 0;
+      int    fluid_count = 0;
+      bool   by_solid    = false;
       for_each_neighbor(nb, i, [&](const int j, int, const Vec<dim> &r) {
         const double w = nb.w(r);
         sum += w;
         if (p.fluid(j) && j != i)
-          fluid_sum += w;
+          fluid_sum += w, ++fluid_count;
+        by_solid = by_solid || p.kind[j] == ParticleKind::solid;
         if (j != i)
           div_r -= p.V[j] * geometry::dot(r, nb.grad_w(r));
       });
@@ -38,9 +42,15 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
       // Free surface: a density deficit, or (where BCE markers fill the density up, e.g. where
       // the surface meets a wall) a position divergence ∇·r = −Σ V_j r_ij·∇W_ij (= dim in a full
       // support) below the threshold (Lind et al. 2012), or a sparse neighbourhood (spray
-      // clusters, whose compression hides the density deficit).
+      // clusters, whose compression hides the density deficit). A droplet against a wall or in
+      // a corner has its support filled with BCE markers and passes all three; with too few
+      // fluid neighbours it is free surface too: otherwise it and the markers beside it form a
+      // block of the pressure system with no p = 0 row, singular (pure Neumann). Not next to a
+      // solid body's markers: the thin film between a body and a wall carries the pressure
+      // that keeps the body off the wall (there is no contact model).
       surface[i] = (p.fluid(i) && free_surface &&
-                    (rho[i] < ratio * rho0 || div_r < divergence_threshold || nb.count(i) < min_neighbours)) ? 1 : 0;
+                    (rho[i] < ratio * rho0 || div_r < divergence_threshold || nb.count(i) < min_neighbours ||
+                     (fluid_count < min_fluid_neighbours && !by_solid))) ? 1 : 0;
     }
   };
 
@@ -374,6 +384,71 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
       for (int d = 0; d < dim; ++d)
         x[i][d] += scale * dr[d];
       x[i] = nb.box.wrap(x[i]);
+    }
+  };
+
+  /// ∇p_i = 0 at a strict local pressure maximum (p_i > 0 above every neighbour, markers
+  /// included) of a fluid particle: there the one-sided consistent gradient ≈ −p_i G_i Σ V_j ∇W_ij
+  /// points out of the water and pulls the particle into its neighbours (the spray kicks of
+  /// colliding splash sheets); the gradient of a smooth field at its maximum is zero. Not next
+  /// to a solid body, whose force is the reaction of its neighbours' pressure forces.
+  template <int dim>
+  struct PeakGradientLimiter
+  {
+    ParticleView<dim> p; ///< kind, surface, pressure
+    NeighborView<dim> nb;
+    double           *grad_p[dim] = {};
+    TWINFLOW_HD void operator()(int i) const
+    {
+      if (!p.fluid(i) || p.surface[i] || !(p.pressure[i] > 0))
+        return;
+      if (any_neighbor(nb, i, [&](const int j) {
+            return (j != i && p.pressure[j] >= p.pressure[i]) || p.kind[j] == ParticleKind::solid;
+          }))
+        return;
+      for (int d = 0; d < dim; ++d)
+        grad_p[d][i] = 0;
+    }
+  };
+
+  /// Pair separation: a fluid particle closer than d_min to fluid neighbours, one of the two a
+  /// free-surface particle of this step, moves by
+  /// Σ_j ½ (d_min − r_ij) e_ij, e_ij = (x_i − x_j)/r_ij, from the positions nb was built for
+  /// (an isolated pair ends exactly d_min apart; the shifts of a pair are opposite, so the
+  /// centre of mass stays). Velocities are not touched.
+  template <int dim>
+  struct PairSeparation
+  {
+    ParticleView<dim> p;  ///< kind
+    NeighborView<dim> nb; ///< positions before the separation
+    double            min_distance = 0;
+    Vec<dim>         *x            = nullptr;
+    TWINFLOW_HD void operator()(int i) const
+    {
+      // not next to a solid body: its markers keep fluid out (KeepOutOfSolids), and the
+      // floating disk settled 2.4 % of R low when the film around it was spread as well
+      if (!p.fluid(i) || any_neighbor(nb, i, [&](const int j) { return p.kind[j] == ParticleKind::solid; }))
+        return;
+      Vec<dim> dr    = Vec<dim>::zero();
+      bool     moved = false;
+      for_each_neighbor(nb, i, [&](const int j, int, const Vec<dim> &r) {
+        if (j == i || !p.fluid(j) || !(p.surface[i] || p.surface[j]))
+          return;
+        const double d = geometry::norm(r);
+        if (d >= min_distance)
+          return;
+        // coincident particles: split them along the first axis, by index
+        const double s = d > 0 ? 0.5 * (min_distance - d) / d : (i < j ? -0.5 : 0.5) * min_distance;
+        for (int k = 0; k < dim; ++k)
+          dr[k] += d > 0 ? s * r[k] : (k == 0 ? s : 0.0);
+        moved = true;
+      });
+      if (moved)
+      {
+        for (int k = 0; k < dim; ++k)
+          x[i][k] = nb.x[i][k] + dr[k];
+        x[i] = nb.box.wrap(x[i]);
+      }
     }
   };
 

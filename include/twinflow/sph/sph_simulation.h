@@ -35,6 +35,8 @@ namespace twinflow::sph
     double      shifting      = EngineSettings().shifting; ///< particle-shifting coefficient (0: off)
     double      shifting_velocity_floor = EngineSettings().shifting_velocity_floor; ///< shifting speed scale max(|u_i|, floor) [m/s]
     bool        wetted_walls = EngineSettings().wetted_walls; ///< EngineSettings::wetted_walls
+    double      min_pair_distance = EngineSettings().min_pair_distance; ///< EngineSettings::min_pair_distance
+    bool        limit_pressure_peaks = EngineSettings().limit_pressure_peaks; ///< EngineSettings::limit_pressure_peaks
     double      time_step     = 1e-3;   ///< maximum step
     double      cfl           = 0.2;    ///< dt ≤ CFL h / max(|u|, U_ref)
     double      solver_tolerance = SolverSettings().tolerance;
@@ -64,6 +66,10 @@ namespace twinflow::sph
   /// Neighbour count of a particle in a full lattice support (itself included): lattice points
   /// closer than 2h to a lattice point, 21 in 2D and 57 in 3D for h = 1.2 Δx.
   int full_support_count(int dim, double h_over_dx);
+
+  /// A fluid particle with fewer fluid neighbours than this fraction of full_support_count is a
+  /// droplet and free surface (p = 0), whatever the BCE markers around it add to its density.
+  inline constexpr double droplet_support_fraction = 0.15;
 
   /// The engine settings a scene and its SPH parameters call for (one place for the mapping).
   EngineSettings make_engine_settings(const Scene &scene, const SphParameters &parameters);

@@ -45,9 +45,15 @@ namespace twinflow::sph
     double             free_surface_ratio = 0.95; ///< fluid with ρ_i < ratio ρ0 gets p = 0
     double             free_surface_divergence = 0; ///< … or with ∇·r_i below this (0: density only)
     double             free_surface_min_neighbours = 0; ///< … or with fewer neighbours, itself included (0: off)
+    double             free_surface_min_fluid_neighbours = 0; ///< … or with fewer fluid neighbours, itself excluded (0: off)
     bool               free_surface = true;       ///< false: no p = 0 particles (confined flow)
     double             shifting     = 5;          ///< particle-shifting coefficient A (0: off)
     double             shifting_velocity_floor = 0; ///< D = A h max(|u_i|, this) Δt (0: |u_i|, the paper's form)
+    /// fluid pairs closer than this fraction of Δx, one of them a free-surface particle, are
+    /// pushed apart to it at the end of a step (PairSeparation; 0: off)
+    double             min_pair_distance = 0.5;
+    /// consistent operators: ∇p_i = 0 at a strict local pressure maximum (PeakGradientLimiter)
+    bool               limit_pressure_peaks = true;
     /// consistent operators: wall markers hold the liquid that wets them, Eq. 64 with ρ0 and the
     /// motion away from a wetted marker mirrored, up to |g| Δt, in the continuity source
     /// (ContinuityVelocity)
