@@ -94,7 +94,8 @@ namespace twinflow::sph
           fs << ", div r < " << s.free_surface_divergence;
         if (s.free_surface_min_neighbours > 0)
           fs << ", fewer than " << s.free_surface_min_neighbours << " neighbours";
-        fs << ", droplets of fewer than " << s.free_surface_min_fluid_neighbours << " fluid neighbours";
+        if (s.free_surface_min_fluid_neighbours > 0)
+          fs << ", droplets of fewer than " << s.free_surface_min_fluid_neighbours << " fluid neighbours";
         result.active_physics.push_back(fs.str() + ")");
       }
       std::cout << "SPH active physics: ";
@@ -545,7 +546,7 @@ namespace twinflow::sph
     // BCE markers fill up, is an interior particle, and the markers beside it and it form a
     // block of the pressure system with no p = 0 row (singular: the paper's dam break at
     // Δx = H/80 and CFL 0.5 stopped at t = 1.43 s on two particles caught in a top corner).
-    s.free_surface_min_fluid_neighbours = droplet_support_fraction * full_support_count(scene.dimension, s.h / s.spacing);
+    s.free_surface_min_fluid_neighbours = prm.free_surface_droplet_ratio * full_support_count(scene.dimension, s.h / s.spacing);
     s.free_surface       = scene.fluid_region.has_value();
     s.open_face          = open_face(scene).face;
     s.shifting           = prm.shifting;

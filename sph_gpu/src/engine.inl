@@ -11,6 +11,7 @@
 
 #include <thrust/copy.h>
 #include <thrust/count.h>
+#include <thrust/equal.h>
 #include <thrust/fill.h>
 #include <thrust/for_each.h>
 #include <thrust/iterator/counting_iterator.h>
@@ -167,6 +168,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       search.build(x, nl);
       report.t_neighbors = clock.lap();
       compute_density_and_free_surface();
+      const double separation_pe = separate_close_pairs(); // density and flags again if it moved any
       assemble_operators_and_velocity_matrix(dt);
       report.t_assembly = clock.lap();
       u_old.resize(n);
@@ -181,12 +183,11 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       report.pressure_noise = pressure_noise();
       report.t_pressure     = clock.lap();
       correct_and_move(dt);
-      const double separation_pe = separate_close_pairs();
       report.max_speed = max_fluid_speed();
       report.budget.pressure = fluid_energy(u, false) - ke1;
       // the shifting's and the pair separation's potential-energy changes (positions only)
-      report.budget.shifting  = settings.shifting > 0 ? fluid_energy(x, true) - pe_moved : separation_pe;
-      report.budget.potential = (settings.shifting > 0 ? pe_moved : fluid_energy(x, true) - separation_pe) - pe0;
+      report.budget.shifting  = (settings.shifting > 0 ? fluid_energy(x, true) - pe_moved : 0.0) + separation_pe;
+      report.budget.potential = (settings.shifting > 0 ? pe_moved : fluid_energy(x, true)) - pe0;
       report.t_update  = clock.lap();
       return report;
     }
@@ -495,10 +496,12 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       }
     }
 
-    /// Pushes fluid pairs closer than settings.min_pair_distance Δx apart (PairSeparation), at the
-    /// end of the step (after the move and the shifting, with this step's free-surface flags and
-    /// neighbour list: a checkpoint restarts bit-exactly); the moves are ≤ ¼ Δx for the default
-    /// ½ Δx. Returns the change of potential energy, booked with the shifting's.
+    /// Pushes fluid pairs closer than settings.min_pair_distance Δx apart (PairSeparation), after
+    /// the neighbour search and this step's free-surface flags (from the step's own positions: a
+    /// checkpoint restarts bit-exactly); if it moved any particle, the volumes, densities and
+    /// flags are computed again for the moved positions (the moves, ≤ ¼ Δx for the default ½ Δx,
+    /// stay within the list's reach). Returns the change of potential energy, booked with the
+    /// shifting's.
     double separate_close_pairs()
     {
       if (!(settings.min_pair_distance > 0) || n == 0)
@@ -512,6 +515,10 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       sep.min_distance = settings.min_pair_distance * settings.spacing;
       sep.x            = ptr(x);
       for_each_particle(sep);
+      const bool moved = !thrust::equal(exec, x.begin(), x.end(), x_start.begin(), detail::SamePosition<dim>());
+      if (!moved)
+        return 0.0;
+      compute_density_and_free_surface();
       return fluid_energy(x, true) - pe;
     }
 

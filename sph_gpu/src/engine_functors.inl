@@ -411,6 +411,19 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
     }
   };
 
+  /// Exact equality of two positions (thrust::equal: did a pass move any particle).
+  template <int dim>
+  struct SamePosition
+  {
+    TWINFLOW_HD bool operator()(const Vec<dim> &a, const Vec<dim> &b) const
+    {
+      for (int d = 0; d < dim; ++d)
+        if (a[d] != b[d])
+          return false;
+      return true;
+    }
+  };
+
   /// Pair separation: a fluid particle closer than d_min to fluid neighbours, one of the two a
   /// free-surface particle of this step, moves by
   /// Σ_j ½ (d_min − r_ij) e_ij, e_ij = (x_i − x_j)/r_ij, from the positions nb was built for

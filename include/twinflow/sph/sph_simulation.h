@@ -32,6 +32,8 @@ namespace twinflow::sph
     double      free_surface_ratio = EngineSettings().free_surface_ratio;
     double      free_surface_divergence_ratio = 0.6;    ///< surface also where div r < ratio · dim (0: off)
     double      free_surface_neighbour_ratio  = 0.6;    ///< … or fewer neighbours than ratio · a full lattice support (0: off)
+    /// … or, a droplet, fewer fluid neighbours than ratio · a full lattice support (0: off)
+    double      free_surface_droplet_ratio    = 0.15;
     double      shifting      = EngineSettings().shifting; ///< particle-shifting coefficient (0: off)
     double      shifting_velocity_floor = EngineSettings().shifting_velocity_floor; ///< shifting speed scale max(|u_i|, floor) [m/s]
     bool        wetted_walls = EngineSettings().wetted_walls; ///< EngineSettings::wetted_walls
@@ -67,9 +69,6 @@ namespace twinflow::sph
   /// closer than 2h to a lattice point, 21 in 2D and 57 in 3D for h = 1.2 Δx.
   int full_support_count(int dim, double h_over_dx);
 
-  /// A fluid particle with fewer fluid neighbours than this fraction of full_support_count is a
-  /// droplet and free surface (p = 0), whatever the BCE markers around it add to its density.
-  inline constexpr double droplet_support_fraction = 0.15;
 
   /// The engine settings a scene and its SPH parameters call for (one place for the mapping).
   EngineSettings make_engine_settings(const Scene &scene, const SphParameters &parameters);

@@ -50,7 +50,7 @@ namespace twinflow::sph
     double             shifting     = 5;          ///< particle-shifting coefficient A (0: off)
     double             shifting_velocity_floor = 0; ///< D = A h max(|u_i|, this) Δt (0: |u_i|, the paper's form)
     /// fluid pairs closer than this fraction of Δx, one of them a free-surface particle, are
-    /// pushed apart to it at the end of a step (PairSeparation; 0: off)
+    /// pushed apart to it after the step's free-surface detection (PairSeparation; 0: off)
     double             min_pair_distance = 0.5;
     /// consistent operators: ∇p_i = 0 at a strict local pressure maximum (PeakGradientLimiter)
     bool               limit_pressure_peaks = true;
