@@ -540,8 +540,8 @@ namespace twinflow::sph
     s.free_surface_ratio = prm.free_surface_ratio;
     s.free_surface_divergence = prm.free_surface_divergence_ratio * scene.dimension;
     s.free_surface_min_neighbours = prm.free_surface_neighbour_ratio * full_support_count(scene.dimension, s.h / s.spacing);
-    // A droplet: fewer fluid neighbours than 15 % of a full support (2D 3.15 of 21, 3D 8.6 of
-    // 57). No particle of a continuous body of water has so few: a corner particle of a full
+    // A droplet: fewer fluid neighbours than `Free-surface droplet ratio` (0.15) of a full
+    // support (2D 3.15 of 21, 3D 8.6 of 57). No particle of a continuous body of water has so few: a corner particle of a full
     // tank has 7 (2D) / 16 (3D) others. Without it a droplet against a wall, whose support
     // BCE markers fill up, is an interior particle, and the markers beside it and it form a
     // block of the pressure system with no p = 0 row (singular: the paper's dam break at

@@ -506,7 +506,6 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     {
       if (!(settings.min_pair_distance > 0) || n == 0)
         return 0.0;
-      const double pe = fluid_energy(x, true);
       x_start.resize(n);
       thrust::copy(exec, x.begin(), x.end(), x_start.begin());
       detail::PairSeparation<dim> sep;
@@ -519,7 +518,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       if (!moved)
         return 0.0;
       compute_density_and_free_surface();
-      return fluid_energy(x, true) - pe;
+      return fluid_energy(x, true) - fluid_energy(x_start, true);
     }
 
     /// Fickian particle shifting (ShiftingDisplacement) from the step's start positions.

@@ -438,9 +438,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
     Vec<dim>         *x            = nullptr;
     TWINFLOW_HD void operator()(int i) const
     {
-      // not next to a solid body: its markers keep fluid out (KeepOutOfSolids), and the
-      // floating disk settled 2.4 % of R low when the film around it was spread as well
-      if (!p.fluid(i) || any_neighbor(nb, i, [&](const int j) { return p.kind[j] == ParticleKind::solid; }))
+      if (!p.fluid(i))
         return;
       Vec<dim> dr    = Vec<dim>::zero();
       bool     moved = false;
@@ -456,7 +454,9 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
           dr[k] += d > 0 ? s * r[k] : (k == 0 ? s : 0.0);
         moved = true;
       });
-      if (moved)
+      // not next to a solid body: its markers keep fluid out (KeepOutOfSolids), and the
+      // floating disk settled 2.4 % of R low when the film around it was spread as well
+      if (moved && !any_neighbor(nb, i, [&](const int j) { return p.kind[j] == ParticleKind::solid; }))
       {
         for (int k = 0; k < dim; ++k)
           x[i][k] = nb.x[i][k] + dr[k];

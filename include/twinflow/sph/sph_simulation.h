@@ -69,7 +69,6 @@ namespace twinflow::sph
   /// closer than 2h to a lattice point, 21 in 2D and 57 in 3D for h = 1.2 Δx.
   int full_support_count(int dim, double h_over_dx);
 
-
   /// The engine settings a scene and its SPH parameters call for (one place for the mapping).
   EngineSettings make_engine_settings(const Scene &scene, const SphParameters &parameters);
 
