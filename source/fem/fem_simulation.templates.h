@@ -4,6 +4,7 @@
 #include <twinflow/core/errors.h>
 #include <twinflow/fem/fem_simulation.h>
 #include <twinflow/fem/material_model.h>
+#include <twinflow/fem/linear_solve.h>
 #include <twinflow/io/csv_monitor.h>
 #include <twinflow/io/mpi_utils.h>
 #include <twinflow/io/progress.h>
@@ -531,6 +532,7 @@ namespace twinflow::fem
   FemRunResult FemSimulation<dim>::run()
   {
     Timer wall;
+    linear_solve_counts().clear(); // this run's Krylov iterations, for the summary
     setup();
     h_min = navier_stokes->minimal_cell_diameter(); // for the CFL step; updated on adaptation
     NavierStokes<dim> &ns = *navier_stokes;

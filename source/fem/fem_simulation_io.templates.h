@@ -8,10 +8,12 @@
 #include <twinflow/io/pvd_series.h>
 #include <twinflow/io/summary.h>
 #include <twinflow/io/front_reference.h>
+#include <twinflow/fem/linear_solve.h>
 
 #include <deal.II/numerics/data_out.h>
 
 #include <fstream>
+#include <iomanip>
 #include <optional>
 #include <sstream>
 
@@ -279,6 +281,14 @@ namespace twinflow::fem
     summary.set_extra("mpi ranks", Utilities::MPI::n_mpi_processes(comm));
     summary.set_extra("mesh adaptations", result.adaptations);
     summary.set_extra("time per step [s]", result.wall_time / std::max(1u, result.steps));
+    for (const auto &[system, counts] : linear_solve_counts())
+    {
+      std::ostringstream line;
+      line << std::fixed << std::setprecision(1) << double(counts.iterations) / std::max(1ul, counts.calls)
+           << " per solve, " << std::setprecision(2) << double(counts.calls) / std::max(1u, result.steps)
+           << " solves per step";
+      summary.set_extra("Krylov iterations: " + system, line.str());
+    }
     auto compare = [&](const char *name, const char *key, const std::optional<double> &ref) {
       if (ref && result.monitors.count(key))
       {

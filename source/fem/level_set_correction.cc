@@ -274,7 +274,7 @@ namespace twinflow::fem
       delta = 0;
       SolverControl control(1000, std::max(1e-12 * residual.l2_norm(), 1e-300));
       SolverCG<TrilinosWrappers::MPI::Vector> cg(control);
-      solve_named("mass-correction Newton", [&] { cg.solve(jacobian, delta, residual, amg); });
+      solve_named("mass-correction Newton", control, [&] { cg.solve(jacobian, delta, residual, amg); });
       space.constraints().distribute(delta);
       u_owned += delta;
       correction = u_owned;

@@ -221,7 +221,7 @@ namespace twinflow::fem
     x.compress(VectorOperation::insert);
     SolverControl control(500, std::max(1e-13 * rhs.l2_norm(), 1e-300));
     SolverCG<TrilinosWrappers::MPI::Vector> cg(control);
-    solve_named("level-set L2 projection", [&] { cg.solve(mass, x, rhs, mass_preconditioner); });
+    solve_named("level-set L2 projection", control, [&] { cg.solve(mass, x, rhs, mass_preconditioner); });
     mesh_constraints.distribute(x);
     theta = x;
   }

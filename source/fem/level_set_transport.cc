@@ -178,7 +178,7 @@ namespace twinflow::fem
     space.constraints().set_zero(result);
     SolverControl control(1000, std::max(space.parameters().linear_tolerance * rhs.l2_norm(), 1e-300));
     SolverGMRES<TrilinosWrappers::MPI::Vector> gmres(control, SolverGMRES<TrilinosWrappers::MPI::Vector>::AdditionalData(50));
-    solve_named(field_name + " transport", [&] { gmres.solve(matrix, result, rhs, ilu); });
+    solve_named(field_name + " transport", control, [&] { gmres.solve(matrix, result, rhs, ilu); });
     space.constraints().distribute(result);
     iterations += control.last_step();
   }

@@ -1,25 +1,42 @@
 #pragma once
 /**
  * @file linear_solve.h
- * One place that turns a Krylov solver's failure into an error a user can act on: which
- * system of which physics failed, after how many iterations, with what residual.
+ * One place that turns a Krylov solver's failure into an error a user can act on (which
+ * system of which physics failed, after how many iterations, with what residual) and counts
+ * the iterations of every named system for the run summary (the cost of a step is mostly
+ * its Krylov iterations).
  */
 #include <deal.II/base/exceptions.h>
 #include <deal.II/lac/solver_control.h>
 
+#include <map>
 #include <sstream>
 #include <string>
 
 namespace twinflow::fem
 {
-  /// Run @p solve (a call of a deal.II solver); a SolverControl::NoConvergence becomes an
-  /// error naming @p system ("Navier-Stokes velocity", ...).
+  /// Calls and Krylov iterations of one named linear system, summed over a run (this rank).
+  struct LinearSolveCounts
+  {
+    unsigned long calls      = 0;
+    unsigned long iterations = 0;
+  };
+
+  /// The counts of every system solved through solve_named() in this process.
+  std::map<std::string, LinearSolveCounts> &linear_solve_counts();
+
+  /// Run @p solve (a call of a deal.II solver driven by @p control); a
+  /// SolverControl::NoConvergence becomes an error naming @p system ("Navier-Stokes
+  /// velocity", ...). The iterations are added to linear_solve_counts()[system].
   template <typename Solve>
-  void solve_named(const std::string &system, Solve &&solve)
+  void solve_named(const std::string &system, const dealii::SolverControl &control, Solve &&solve)
   {
     try
     {
       solve();
+      auto &c = linear_solve_counts()[system];
+      ++c.calls;
+      c.iterations += control.last_step();
     }
     catch (const dealii::SolverControl::NoConvergence &e)
     {

@@ -200,7 +200,7 @@ namespace twinflow::fem
     /// AMG of the current pressure_laplace (mesh Laplacian, or the ρ⁻¹-weighted one per step).
     void initialize_pressure_amg();
     void assemble_velocity_system(double dt, const BdfCoefficients &c);
-    unsigned int solve_velocity();
+    unsigned int solve_velocity(const BdfCoefficients &c);
     unsigned int solve_pressure_increment(double dt, const BdfCoefficients &c);
     /// Variable-density projection: u^{n+1} = ũ − (τ/(α0 ρ))∇φ^{n+1} (φ_n, just solved for),
     /// L²(ρ)-projected onto V_h with the mass assembled beside the momentum matrix.
@@ -239,6 +239,7 @@ namespace twinflow::fem
     /// Ghosted state: u^n, u^{n-1}, p^n, φ^n, φ^{n-1}.
     dealii::TrilinosWrappers::MPI::Vector u_n, u_nm1, p_n, phi_n, phi_nm1;
     dealii::TrilinosWrappers::MPI::Vector u_momentum; ///< ũ^{n+1} (see momentum_velocity())
+    dealii::TrilinosWrappers::MPI::Vector last_correction; ///< δ of the last velocity correction (the next guess)
     double       current_time = 0, dt_last = 0, dt_before_last = 0;
     unsigned int step_number = 0;
     bool         have_history = false; ///< u^{n-1} is a real previous step
