@@ -295,6 +295,7 @@ namespace twinflow::fem
     space.reinit_ghosted(before);
     space.reinit_ghosted(before_previous);
     matrix.reinit(space.owned(), space.owned(), space.sparsity(), space.communicator());
+    scatter.clear();
   }
 
   template <int dim>

@@ -166,10 +166,13 @@ namespace twinflow::fem
             }
           }
       cell->get_dof_indices(indices);
-      space.constraints().distribute_local_to_global(A, b, indices, matrix, rhs);
+      if (!scatter.ready() || !scatter.add(cell, A, &b, &rhs))
+        space.constraints().distribute_local_to_global(A, b, indices, matrix, rhs);
     }
     matrix.compress(VectorOperation::add);
     rhs.compress(VectorOperation::add);
+    if (!scatter.ready())
+      scatter.reinit(space.dof_handler(), space.constraints(), matrix, rhs);
 
     TrilinosWrappers::PreconditionILU ilu;
     ilu.initialize(matrix);

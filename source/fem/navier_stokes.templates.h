@@ -145,6 +145,8 @@ namespace twinflow::fem
     velocity_cells.reinit(velocity_dofs, velocity_owned, velocity_relevant, comm);
     velocity_scatter.clear();
     mass_scatter.clear();
+    pressure_scatter.clear();
+    step_density.clear();
     pressure_cells.reinit(pressure_dofs, pressure_owned, pressure_relevant, comm);
 
     make_velocity_constraints(current_time);
@@ -379,6 +381,8 @@ namespace twinflow::fem
     if (acceleration) acceleration->set_time(t_new);
     if (force_density) force_density->set_time(t_new);
     std::vector<const MomentumTerm<dim> *> active_terms;
+    if (!constant)
+      step_density.resize(tria.n_active_cells() * nq);
 
     for (const auto &cell : velocity_dofs.active_cell_iterators())
     {
@@ -399,6 +403,8 @@ namespace twinflow::fem
         fep[scalar].get_function_values_from_local_dof_values(local_p, *out);
       }
       material.evaluate(cell, fev.get_quadrature_points(), t_new, mat);
+      if (!constant) // ρ^{n+1} at these points, for the pressure projection of this step
+        std::copy(mat.density.begin(), mat.density.end(), step_density.begin() + cell->active_cell_index() * nq);
       if (acceleration) acceleration->vector_value_list(fev.get_quadrature_points(), g_val);
       if (force_density) force_density->vector_value_list(fev.get_quadrature_points(), f_val);
       for (unsigned int q = 0; q < nq; ++q)
@@ -578,7 +584,7 @@ namespace twinflow::fem
     const bool variable = velocity_corrected();
     pressure_rhs = 0;
     const QGauss<dim>  quad(fe_velocity.degree + 1);
-    FEValues<dim>      fev(mapping, fe_velocity, quad, update_gradients | update_quadrature_points);
+    FEValues<dim>      fev(mapping, fe_velocity, quad, update_gradients);
     FEValues<dim>      fep(mapping, fe_pressure, quad, update_values | update_gradients | update_JxW_values);
     const unsigned int n = fe_pressure.n_dofs_per_cell();
     Vector<double>     cell_rhs(n);
@@ -587,7 +593,11 @@ namespace twinflow::fem
     std::vector<double> local_u;
     std::vector<types::global_dof_index> indices(n);
     const FEValuesExtractors::Vector vel(0);
-    MaterialValues<dim> mat;
+    // ρ^{n+1} at the same points was evaluated by this step's momentum assembly (same
+    // quadrature, same level set): no second evaluation of the material.
+    AssertThrow(!variable || step_density.size() == tria.n_active_cells() * quad.size(),
+                ExcMessage("Navier-Stokes: the variable-density projection needs the densities of this step's "
+                           "momentum assembly."));
     const double factor = variable ? -c.a0 / dt : -c.a0 * material.minimum_density() / dt;
     if (variable)
       pressure_laplace = 0;
@@ -602,8 +612,7 @@ namespace twinflow::fem
         fev[vel].get_function_divergences_from_local_dof_values(local_u, div_u);
         cell_rhs    = 0;
         cell_matrix = 0;
-        if (variable)
-          material.evaluate(vcell, fev.get_quadrature_points(), current_time + dt, mat);
+        const double *density = variable ? &step_density[cell->active_cell_index() * quad.size()] : nullptr;
         for (unsigned int q = 0; q < quad.size(); ++q)
         {
           div_sq += div_u[q] * div_u[q] * fep.JxW(q);
@@ -612,11 +621,14 @@ namespace twinflow::fem
           if (variable)
             for (unsigned int i = 0; i < n; ++i)
               for (unsigned int j = 0; j < n; ++j)
-                cell_matrix(i, j) += fep.shape_grad(i, q) * fep.shape_grad(j, q) / mat.density[q] * fep.JxW(q);
+                cell_matrix(i, j) += fep.shape_grad(i, q) * fep.shape_grad(j, q) / density[q] * fep.JxW(q);
         }
         cell->get_dof_indices(indices);
         if (variable)
-          increment_constraints.distribute_local_to_global(cell_matrix, cell_rhs, indices, pressure_laplace, pressure_rhs);
+        {
+          if (!pressure_scatter.ready() || !pressure_scatter.add(cell, cell_matrix, &cell_rhs, &pressure_rhs))
+            increment_constraints.distribute_local_to_global(cell_matrix, cell_rhs, indices, pressure_laplace, pressure_rhs);
+        }
         else
           increment_constraints.distribute_local_to_global(cell_rhs, indices, pressure_rhs);
       }
@@ -624,6 +636,8 @@ namespace twinflow::fem
     if (variable)
     {
       pressure_laplace.compress(VectorOperation::add);
+      if (!pressure_scatter.ready())
+        pressure_scatter.reinit(pressure_dofs, increment_constraints, pressure_laplace, pressure_rhs);
       initialize_pressure_amg(); // reusing it for 10 steps costs more CG iterations than it saves
     }
     stats.divergence_l2 = std::sqrt(Utilities::MPI::sum(div_sq, comm));

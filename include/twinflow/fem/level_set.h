@@ -17,6 +17,7 @@
  * earlier densities ρ^n, ρ^{n−1} (for the √ρ form of the time derivative) to Navier–Stokes. A scene with one fluid constructs none of this.
  */
 #include <twinflow/fem/cell_dof_reader.h>
+#include <twinflow/fem/cell_scatter.h>
 #include <twinflow/fem/field_physics.h>
 #include <twinflow/fem/material_model.h>
 #include <twinflow/fem/mesh_adaptation.h>
@@ -234,6 +235,7 @@ namespace twinflow::fem
     std::unique_ptr<Transfer>             transfer;
     std::array<double, 3>                 integral_before_transfer{};
     dealii::TrilinosWrappers::SparseMatrix matrix;
+    CellScatter<dim>                       scatter; ///< fast insertion into matrix (set up after its first assembly)
   };
 
   /// Eq. 7: the non-conservative level set φ carried by the flow (SUPG, Crank–Nicolson).
@@ -312,6 +314,7 @@ namespace twinflow::fem
     NclsTransport<dim>                    &ncls;
     VofTransport<dim>                     &vof;
     dealii::TrilinosWrappers::SparseMatrix jacobian;
+    CellScatter<dim>                       jacobian_scatter; ///< fast insertion into the Jacobian
     dealii::TrilinosWrappers::MPI::Vector  correction;
     unsigned int                           newton = 0;
     double                                 max_correction = 0;

@@ -216,7 +216,10 @@ namespace twinflow::fem
     dealii::DoFHandler<dim>                            velocity_dofs, pressure_dofs;
     dealii::IndexSet velocity_owned, velocity_relevant, pressure_owned, pressure_relevant;
     CellDofReader<dim> velocity_cells, pressure_cells;
-    CellScatter<dim>   velocity_scatter, mass_scatter; ///< set up after the first assembly on a mesh
+    CellScatter<dim>   velocity_scatter, mass_scatter, pressure_scatter; ///< set up after the first assembly on a mesh
+    /// ρ^{n+1} at the momentum assembly's quadrature points of each active cell (two phases):
+    /// written by the assembly, read by the pressure projection of the same step.
+    std::vector<double> step_density;
 
     std::map<dealii::types::boundary_id, std::shared_ptr<dealii::Function<dim>>> dirichlet;
     std::map<dealii::types::boundary_id, unsigned int> slip; ///< face → its normal axis
