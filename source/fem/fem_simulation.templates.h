@@ -164,9 +164,6 @@ namespace twinflow::fem
     if (scene.has_moving_solids() && (scene.geometry != "box"))
       throw InputError("Domain/Geometry = " + scene.geometry + ": a rigid (moving) solid needs the immersed boundary "
                        "of the 'box' geometry; the body-fitted geometries hold a fixed cylinder");
-    if (scene.has_moving_solids() && !prm.restart_file.empty())
-      throw InputError("FEM/Restart file = " + prm.restart_file +
-                       ": a restart does not carry the rigid bodies' state yet; run scenes with moving solids from t = 0");
     const bool free_surface = scene.has_free_surface();
     if (free_surface)
       compose_free_surface(); // the level-set space and the two-phase material
@@ -477,6 +474,12 @@ namespace twinflow::fem
   {
     coupling->advance(dt, loads);
     coupling->check_clear_of_walls(scene);
+    sync_solid_motion();
+  }
+
+  template <int dim>
+  void FemSimulation<dim>::sync_solid_motion()
+  {
     for (std::size_t b = 0; b < coupling->n_bodies(); ++b)
     {
       const solids::BodyKinematics k = coupling->kinematics(b);

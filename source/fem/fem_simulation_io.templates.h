@@ -88,8 +88,10 @@ namespace twinflow::fem
                         {"s", "J", "1/s", "s", "-"}, "energy");
     if (coupling)
     {
-      body_monitor = std::make_unique<io::BodyMonitor>(dir, *coupling, dim, scene.gravity, comm);
-      body_monitor->append(t0, body_loads);
+      body_monitor = std::make_unique<io::BodyMonitor>(dir, *coupling, dim, scene.gravity, comm,
+                                                       restarted ? t0 : -1.0);
+      if (!restarted) // a restart carries the rows up to t0
+        body_monitor->append(t0, body_loads);
     }
     pvd = std::make_unique<io::PvdSeries>(dir, "solution", comm);
     if (restarted && io::is_root_process(comm))
@@ -199,6 +201,13 @@ namespace twinflow::fem
       std::ofstream meta(prefix + ".meta");
       meta.precision(17);
       meta << "twinflow-fem-checkpoint 1 " << dim << ' ' << tria.n_global_active_cells() << '\n';
+      if (coupling) // the rigid bodies and the loads they last moved under
+      {
+        coupling->save(meta);
+        for (const auto &l : body_loads)
+          meta << "load " << l.force.x() << ' ' << l.force.y() << ' ' << l.force.z() << ' ' << l.torque.x() << ' '
+               << l.torque.y() << ' ' << l.torque.z() << '\n';
+      }
       for (const auto *p : physics)
         p->save_state(meta);
       meta << "outputs " << output_count << ' ' << next_output << '\n';
@@ -219,6 +228,24 @@ namespace twinflow::fem
     if (tag != "twinflow-fem-checkpoint" || version != 1 || file_dim != dim)
       throw InputError("FEM/Restart file = '" + prefix + "': not a " + std::to_string(dim) +
                        "D twinflow FEM checkpoint (version 1)");
+    if (coupling)
+    {
+      try
+      {
+        coupling->load(meta);
+      }
+      catch (const std::runtime_error &e)
+      {
+        throw InputError("FEM/Restart file = '" + prefix + "': " + e.what());
+      }
+      for (auto &l : body_loads)
+      {
+        meta >> tag >> l.force.x() >> l.force.y() >> l.force.z() >> l.torque.x() >> l.torque.y() >> l.torque.z();
+        if (!meta || tag != "load")
+          throw InputError("FEM/Restart file = '" + prefix + "': the bodies' loads are missing");
+      }
+      sync_solid_motion(); // the immersed solids where the bodies are, before the fields are set up
+    }
     tria.load(prefix + ".mesh");
     if (tria.n_global_active_cells() != cells)
       throw InputError("FEM/Restart file = '" + prefix + "': the mesh does not match its metadata");

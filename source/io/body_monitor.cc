@@ -1,4 +1,6 @@
 #include <twinflow/io/body_monitor.h>
+#include <twinflow/io/csv_table.h>
+#include <twinflow/io/mpi_utils.h>
 #include <twinflow/io/summary.h>
 
 #include <cmath>
@@ -6,7 +8,7 @@
 namespace twinflow::io
 {
   BodyMonitor::BodyMonitor(const std::string &dir, const solids::CoSimulation &bodies, const int dim_,
-                           const std::array<double, 3> &gravity, MPI_Comm comm)
+                           const std::array<double, 3> &gravity, MPI_Comm comm, const double restart_time)
     : co(bodies), dim(dim_), g(gravity[0], gravity[1], gravity[2])
   {
     for (std::size_t b = 0; b < co.n_bodies(); ++b)
@@ -22,9 +24,28 @@ namespace twinflow::io
           units.insert(units.end(), {"rad", "m/s", "m/s", "rad/s", "N", "N", "N m"});
       cols.insert(cols.end(), {"kinetic energy", "potential energy"});
       units.insert(units.end(), {"J", "J"});
-      files.push_back(std::make_unique<CsvMonitor>(dir + "/body_" + co.name(b) + ".csv", cols, units, comm, "body"));
+      const std::string path = dir + "/body_" + co.name(b) + ".csv";
+      // only the writing rank reads (the others would race with its rewrite)
+      const auto carried = restart_time >= 0 && is_root_process(comm) ? monitor_rows_until(path, restart_time)
+                                                                       : std::vector<std::vector<double>>();
+      files.push_back(std::make_unique<CsvMonitor>(path, cols, units, comm, "body"));
+      carried_rows.push_back(carried);
+      columns = cols.size();
     }
     lift.resize(co.n_bodies());
+    // force columns: Fx, Fy (2D: after time, x, y, angle, vx, vy, wz), Fx, Fy, Fz (3D)
+    const std::size_t force = dim == 3 ? 14 : 7;
+    for (std::size_t b = 0; b < co.n_bodies(); ++b)
+      for (const auto &row : carried_rows[b])
+        if (row.size() == columns)
+        {
+          files[b]->append(row);
+          if (b == 0)
+            times.push_back(row[0]);
+          solids::Vector3 F(row[force], row[force + 1], dim == 3 ? row[force + 2] : 0.0);
+          lift[b].push_back(g.norm() > 0 ? -F.dot(g.normalized()) : 0.0);
+        }
+    carried_rows.clear();
   }
 
   void BodyMonitor::append(const double t, const std::vector<solids::BodyLoad> &loads)

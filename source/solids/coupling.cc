@@ -1,5 +1,9 @@
 #include <twinflow/solids/coupling.h>
 
+#include <istream>
+#include <ostream>
+#include <stdexcept>
+
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -210,5 +214,54 @@ namespace twinflow::solids
       out.push_back(s.str());
     }
     return out;
+  }
+  void CoSimulation::save(std::ostream &out) const
+  {
+    out << "bodies " << bodies.size() << ' ' << taken << '\n';
+    const auto put = [&](const auto &v) {
+      for (int i = 0; i < int(v.size()); ++i)
+        out << ' ' << v[i];
+    };
+    for (const RigidBody &b : bodies)
+    {
+      const RigidBodyState &s = b.state();
+      const Quaternion     &q = s.orientation;
+      out << "body";
+      put(s.position);
+      out << ' ' << q.w() << ' ' << q.x() << ' ' << q.y() << ' ' << q.z();
+      put(s.velocity);
+      put(s.angular_momentum);
+      put(b.acceleration());
+      put(b.last_angular_acceleration_value());
+      out << '\n';
+    }
+  }
+
+  void CoSimulation::load(std::istream &in)
+  {
+    std::string tag;
+    std::size_t n = 0;
+    in >> tag >> n >> taken;
+    if (!in || tag != "bodies" || n != bodies.size())
+      throw std::runtime_error("checkpoint: the rigid bodies' state is missing or is for " + std::to_string(n) +
+                               " bodies, the scene has " + std::to_string(bodies.size()));
+    const auto get = [&](Vector3 &v) { in >> v[0] >> v[1] >> v[2]; };
+    for (RigidBody &b : bodies)
+    {
+      RigidBodyState s;
+      Vector3        a, alpha;
+      double         w, x, y, z;
+      in >> tag;
+      get(s.position);
+      in >> w >> x >> y >> z;
+      s.orientation = Quaternion(w, x, y, z);
+      get(s.velocity);
+      get(s.angular_momentum);
+      get(a);
+      get(alpha);
+      if (!in || tag != "body")
+        throw std::runtime_error("checkpoint: a rigid body's state is truncated");
+      b.restore(s, a, alpha);
+    }
   }
 } // namespace twinflow::solids

@@ -137,6 +137,8 @@ namespace twinflow::fem
     std::unique_ptr<solids::CoSimulation>               coupling;
     std::vector<solids::BodyLoad>                       body_loads; ///< fluid loads of the last step
     std::unique_ptr<io::BodyMonitor>                    body_monitor;
+    /// Moves the immersed solids to where the rigid bodies are (after a body step or a restart).
+    void sync_solid_motion();
     /// Moves the bodies over @p dt under @p loads; the IBM's φ_s, u_s follow.
     void advance_bodies(double dt, const std::vector<solids::BodyLoad> &loads);
     /// Navier–Stokes and the bodies over one step: explicit (the last step's loads), or with

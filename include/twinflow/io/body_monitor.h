@@ -25,8 +25,10 @@ namespace twinflow::io
   public:
     /// Opens one CSV per body of @p bodies in @p dir (rank 0 of @p comm writes); @p gravity: the
     /// scene's g (3 components), whose opposite is "vertical".
+    /// @p restart_time >= 0: a restarted run; the files' rows up to it are kept (and count in
+    /// the summary).
     BodyMonitor(const std::string &dir, const solids::CoSimulation &bodies, int dim, const std::array<double, 3> &gravity,
-                MPI_Comm comm);
+                MPI_Comm comm, double restart_time = -1.0);
 
     /// One row per body at time @p t with the fluid @p loads of that step.
     void append(double t, const std::vector<solids::BodyLoad> &loads);
@@ -43,5 +45,7 @@ namespace twinflow::io
     std::vector<std::unique_ptr<CsvMonitor>> files;
     std::vector<double>                      times;
     std::vector<std::vector<double>>         lift; ///< per body: fluid force along −g
+    std::vector<std::vector<std::vector<double>>> carried_rows; ///< a restart's rows, per body (construction only)
+    std::size_t                              columns = 0;
   };
 } // namespace twinflow::io

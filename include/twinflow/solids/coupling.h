@@ -1,4 +1,5 @@
 #pragma once
+#include <iosfwd>
 /**
  * @file coupling.h
  * Force–displacement co-simulation of the moving solids with a fluid solver (Section 3.3.3,
@@ -121,6 +122,11 @@ namespace twinflow::solids
     double                  body_extent(std::size_t b) const { return extent[b]; }
     /// Σ m g over the bodies (the load scale of the coupling tolerance).
     double                  weight_scale(double gravity) const;
+    /// The bodies' states as text (checkpoints): every body's position, orientation,
+    /// velocity, angular momentum and last accelerations, full precision.
+    void save(std::ostream &out) const;
+    /// Reads what save() wrote; throws std::runtime_error if it does not fit these bodies.
+    void load(std::istream &in);
     /// One line per body for the run's "active physics" list.
     std::vector<std::string> describe() const;
 

@@ -95,6 +95,15 @@ namespace twinflow::solids
     void advance(double dt, int substeps = 1);
 
     const RigidBodyState &state() const { return x; }
+    /// Puts the body back into a saved state (a restart): the state and the last step's
+    /// accelerations (Söding's added-mass term uses them).
+    void restore(const RigidBodyState &s, const Vector3 &acceleration, const Vector3 &angular_acceleration)
+    {
+      x                         = s;
+      last_acceleration         = acceleration;
+      last_angular_acceleration = angular_acceleration;
+    }
+    Vector3 last_angular_acceleration_value() const { return last_angular_acceleration; }
     double                time() const { return t; }
     const MassProperties &mass_properties() const { return props; }
     const DofMask        &dofs() const { return mask; }
