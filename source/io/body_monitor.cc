@@ -3,6 +3,7 @@
 #include <twinflow/io/mpi_utils.h>
 #include <twinflow/io/summary.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace twinflow::io
@@ -25,27 +26,23 @@ namespace twinflow::io
       cols.insert(cols.end(), {"kinetic energy", "potential energy"});
       units.insert(units.end(), {"J", "J"});
       const std::string path = dir + "/body_" + co.name(b) + ".csv";
-      // only the writing rank reads (the others would race with its rewrite)
+      // a restart keeps the rows up to its time; only the writing rank reads (the others
+      // would race with its rewrite)
       const auto carried = restart_time >= 0 && is_root_process(comm) ? monitor_rows_until(path, restart_time)
                                                                        : std::vector<std::vector<double>>();
       files.push_back(std::make_unique<CsvMonitor>(path, cols, units, comm, "body"));
-      carried_rows.push_back(carried);
-      columns = cols.size();
-    }
-    lift.resize(co.n_bodies());
-    // force columns: Fx, Fy (2D: after time, x, y, angle, vx, vy, wz), Fx, Fy, Fz (3D)
-    const std::size_t force = dim == 3 ? 14 : 7;
-    for (std::size_t b = 0; b < co.n_bodies(); ++b)
-      for (const auto &row : carried_rows[b])
-        if (row.size() == columns)
+      lift.emplace_back();
+      const std::size_t fx = std::find(cols.begin(), cols.end(), "Fx") - cols.begin();
+      for (const auto &row : carried)
+        if (row.size() == cols.size())
         {
           files[b]->append(row);
           if (b == 0)
             times.push_back(row[0]);
-          solids::Vector3 F(row[force], row[force + 1], dim == 3 ? row[force + 2] : 0.0);
+          const solids::Vector3 F(row[fx], row[fx + 1], dim == 3 ? row[fx + 2] : 0.0);
           lift[b].push_back(g.norm() > 0 ? -F.dot(g.normalized()) : 0.0);
         }
-    carried_rows.clear();
+    }
   }
 
   void BodyMonitor::append(const double t, const std::vector<solids::BodyLoad> &loads)

@@ -1,11 +1,9 @@
 #include <twinflow/solids/coupling.h>
 
-#include <istream>
-#include <ostream>
-#include <stdexcept>
-
 #include <algorithm>
 #include <cmath>
+#include <istream>
+#include <ostream>
 #include <sstream>
 #include <stdexcept>
 
@@ -215,6 +213,7 @@ namespace twinflow::solids
     }
     return out;
   }
+
   void CoSimulation::save(std::ostream &out) const
   {
     out << "bodies " << bodies.size() << ' ' << taken << '\n';
@@ -232,7 +231,7 @@ namespace twinflow::solids
       put(s.velocity);
       put(s.angular_momentum);
       put(b.acceleration());
-      put(b.last_angular_acceleration_value());
+      put(b.previous_angular_acceleration());
       out << '\n';
     }
   }

@@ -45,7 +45,5 @@ namespace twinflow::io
     std::vector<std::unique_ptr<CsvMonitor>> files;
     std::vector<double>                      times;
     std::vector<std::vector<double>>         lift; ///< per body: fluid force along −g
-    std::vector<std::vector<std::vector<double>>> carried_rows; ///< a restart's rows, per body (construction only)
-    std::size_t                              columns = 0;
   };
 } // namespace twinflow::io

@@ -1,5 +1,4 @@
 #pragma once
-#include <iosfwd>
 /**
  * @file coupling.h
  * Force–displacement co-simulation of the moving solids with a fluid solver (Section 3.3.3,
@@ -20,6 +19,7 @@
 #include <twinflow/core/scene.h>
 #include <twinflow/solids/rigid_body.h>
 
+#include <iosfwd>
 #include <string>
 #include <vector>
 

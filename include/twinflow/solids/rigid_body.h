@@ -103,7 +103,8 @@ namespace twinflow::solids
       last_acceleration         = acceleration;
       last_angular_acceleration = angular_acceleration;
     }
-    Vector3 last_angular_acceleration_value() const { return last_angular_acceleration; }
+    /// The angular acceleration at the end of the last step (Söding's term; acceleration() is the linear one).
+    Vector3 previous_angular_acceleration() const { return last_angular_acceleration; }
     double                time() const { return t; }
     const MassProperties &mass_properties() const { return props; }
     const DofMask        &dofs() const { return mask; }

@@ -1,0 +1,156 @@
+// NavierStokes<dim>: the projection half of a step: the pressure increment (Eq. 16 or its
+// variable-density form) and the velocity correction. Included after navier_stokes.templates.h.
+#pragma once
+#include <twinflow/fem/linear_solve.h>
+#include <twinflow/fem/navier_stokes.h>
+
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/fe/fe_values.h>
+#include <deal.II/lac/solver_cg.h>
+#include <deal.II/lac/solver_control.h>
+
+#include <cmath>
+
+namespace twinflow::fem
+{
+  using namespace dealii;
+
+  template <int dim>
+  unsigned int NavierStokes<dim>::solve_pressure_increment(const double dt, const BdfCoefficients &c)
+  {
+    // Constant ρ or Guermond–Salgado (χ = ρ_min): −Δφ = −(α0 χ/τ) ∇·ũ with the Laplacian of
+    // the mesh. A density carried by the flow (two phases, up to 1000:1): the variable-
+    // coefficient form −∇·(ρ̄⁻¹∇φ) = −(α0/τ) ∇·ũ, rebuilt every step, so that the pressure
+    // changes where the fluid is heavy (with χ = ρ_air the water's pressure would adapt at
+    // ρ_air/ρ_water of the rate it needs and the light side of the interface run away).
+    const bool variable = velocity_corrected();
+    pressure_rhs = 0;
+    const QGauss<dim>  quad(fe_velocity.degree + 1);
+    FEValues<dim>      fev(mapping, fe_velocity, quad, update_gradients);
+    FEValues<dim>      fep(mapping, fe_pressure, quad, update_values | update_gradients | update_JxW_values);
+    const unsigned int n = fe_pressure.n_dofs_per_cell();
+    Vector<double>     cell_rhs(n);
+    FullMatrix<double> cell_matrix(n, n);
+    std::vector<double> div_u(quad.size());
+    std::vector<double> local_u;
+    std::vector<types::global_dof_index> indices(n);
+    const FEValuesExtractors::Vector vel(0);
+    // ρ^{n+1} at the same points was evaluated by this step's momentum assembly (same
+    // quadrature, same level set): no second evaluation of the material.
+    AssertThrow(!variable || step_density.size() == tria.n_active_cells() * quad.size(),
+                ExcMessage("Navier-Stokes: the variable-density projection needs the densities of this step's "
+                           "momentum assembly."));
+    const double factor = variable ? -c.a0 / dt : -c.a0 * material.minimum_density() / dt;
+    if (variable)
+      pressure_laplace = 0;
+    double div_sq = 0;
+    for (const auto &cell : pressure_dofs.active_cell_iterators())
+      if (cell->is_locally_owned())
+      {
+        fep.reinit(cell);
+        const typename DoFHandler<dim>::active_cell_iterator vcell(&tria, cell->level(), cell->index(), &velocity_dofs);
+        fev.reinit(vcell);
+        velocity_cells.gather(vcell, u_n, local_u);
+        fev[vel].get_function_divergences_from_local_dof_values(local_u, div_u);
+        cell_rhs    = 0;
+        cell_matrix = 0;
+        const double *density = variable ? &step_density[cell->active_cell_index() * quad.size()] : nullptr;
+        for (unsigned int q = 0; q < quad.size(); ++q)
+        {
+          div_sq += div_u[q] * div_u[q] * fep.JxW(q);
+          for (unsigned int i = 0; i < n; ++i)
+            cell_rhs(i) += factor * div_u[q] * fep.shape_value(i, q) * fep.JxW(q);
+          if (variable)
+            for (unsigned int i = 0; i < n; ++i)
+              for (unsigned int j = 0; j < n; ++j)
+                cell_matrix(i, j) += fep.shape_grad(i, q) * fep.shape_grad(j, q) / density[q] * fep.JxW(q);
+        }
+        cell->get_dof_indices(indices);
+        if (variable)
+        {
+          if (!pressure_scatter.ready() || !pressure_scatter.add(cell, cell_matrix, &cell_rhs, &pressure_rhs))
+            increment_constraints.distribute_local_to_global(cell_matrix, cell_rhs, indices, pressure_laplace, pressure_rhs);
+        }
+        else
+          increment_constraints.distribute_local_to_global(cell_rhs, indices, pressure_rhs);
+      }
+    pressure_rhs.compress(VectorOperation::add);
+    if (variable)
+    {
+      pressure_laplace.compress(VectorOperation::add);
+      if (!pressure_scatter.ready())
+        pressure_scatter.reinit(pressure_dofs, increment_constraints, pressure_laplace, pressure_rhs);
+      initialize_pressure_amg(); // reusing it for 10 steps costs more CG iterations than it saves
+    }
+    stats.divergence_l2 = std::sqrt(Utilities::MPI::sum(div_sq, comm));
+
+    // The last increment is the guess (the increments of consecutive steps differ by O(τ)).
+    TrilinosWrappers::MPI::Vector phi(pressure_owned, comm);
+    phi = phi_n;
+    increment_constraints.set_zero(phi);
+    const double  target = std::max(prm.linear_tolerance * pressure_rhs.l2_norm(), 1e-300);
+    SolverControl control(5000, target);
+    SolverCG<TrilinosWrappers::MPI::Vector> cg(control);
+    solve_named("Navier-Stokes pressure increment", control, [&] { cg.solve(pressure_laplace, phi, pressure_rhs, pressure_amg); });
+    increment_constraints.distribute(phi);
+
+    TrilinosWrappers::MPI::Vector p(pressure_owned, comm);
+    p = p_n;
+    p += phi;
+    phi_nm1 = phi_n;
+    phi_n   = phi;
+    p_n     = p;
+    return control.last_step();
+  }
+
+  template <int dim>
+  void NavierStokes<dim>::correct_velocity(const double dt, const BdfCoefficients &c)
+  {
+    // u^{n+1} = ũ − (τ/α0) δ with M_ρ δ = (∇φ, v): the L²(ρ^{n+1}) projection of
+    // ũ − τ/(α0 ρ) ∇φ, with M_ρ assembled beside the momentum matrix (same ρ^{n+1}).
+    TimerOutput::Scope scope(timer_output, "velocity correction");
+    const TrilinosWrappers::MPI::Vector &phi = phi_n; // the increment just solved for
+    velocity_rhs = 0;
+    const QGauss<dim>  quad(fe_velocity.degree + 1);
+    FEValues<dim>      fev(mapping, fe_velocity, quad, update_values | update_JxW_values);
+    FEValues<dim>      fep(mapping, fe_pressure, quad, update_gradients);
+    const unsigned int n = fe_velocity.n_dofs_per_cell();
+    Vector<double>     cell_rhs(n);
+    std::vector<types::global_dof_index> indices(n);
+    std::vector<Tensor<1, dim>> grad_phi(quad.size());
+    std::vector<double>         local_phi;
+    std::vector<unsigned int>   comp(n);
+    for (unsigned int i = 0; i < n; ++i)
+      comp[i] = fe_velocity.system_to_component_index(i).first;
+    for (const auto &cell : velocity_dofs.active_cell_iterators())
+      if (cell->is_locally_owned())
+      {
+        fev.reinit(cell);
+        const typename DoFHandler<dim>::active_cell_iterator pcell(&tria, cell->level(), cell->index(), &pressure_dofs);
+        fep.reinit(pcell);
+        pressure_cells.gather(pcell, phi, local_phi);
+        fep[FEValuesExtractors::Scalar(0)].get_function_gradients_from_local_dof_values(local_phi, grad_phi);
+        cell_rhs = 0;
+        for (unsigned int q = 0; q < quad.size(); ++q)
+          for (unsigned int i = 0; i < n; ++i)
+            cell_rhs(i) += grad_phi[q][comp[i]] * fev.shape_value(i, q) * fev.JxW(q);
+        cell->get_dof_indices(indices);
+        velocity_constraints.distribute_local_to_global(cell_rhs, indices, velocity_rhs);
+      }
+    velocity_rhs.compress(VectorOperation::add);
+    // The last step's correction is the guess (δ follows the increment ∇φ, smooth in time).
+    TrilinosWrappers::MPI::Vector &delta = last_correction; // sized by setup_dofs()
+    TrilinosWrappers::PreconditionJacobi jacobi;
+    jacobi.initialize(velocity_mass);
+    SolverControl control(2000, std::max(prm.linear_tolerance * velocity_rhs.l2_norm(), 1e-300));
+    SolverCG<TrilinosWrappers::MPI::Vector> cg(control);
+    solve_named("Navier-Stokes velocity correction", control, [&] { cg.solve(velocity_mass, delta, velocity_rhs, jacobi); });
+    if (!momentum_terms.empty())
+      u_momentum = u_n;
+    TrilinosWrappers::MPI::Vector x(velocity_owned, comm);
+    x = u_n;
+    x.add(-dt / c.a0, delta);
+    velocity_constraints.distribute(x);
+    u_n = x;
+  }
+} // namespace twinflow::fem
