@@ -20,6 +20,7 @@
 #include <deal.II/numerics/error_estimator.h>
 
 #include <algorithm>
+#include <limits>
 #include <cmath>
 #include <fstream>
 #include <memory>
@@ -228,11 +229,28 @@ namespace twinflow::fem
                          (prm.coupling_iterations > 1
                             ? "; implicit coupling: up to " + std::to_string(prm.coupling_iterations) +
                                 " Navier-Stokes solves per step with Aitken-relaxed loads"
-                            : std::string("; explicit (FEM/Coupling iterations = 1): light bodies need more")) +
-                         "; experimental: the floating height is not yet validated (doc/user_guide.md, Limitations)");
+                            : std::string("; explicit (FEM/Coupling iterations = 1): light bodies need more")));
     }
     else
       idle.insert(idle.begin(), "rigid body");
+    if (free_surface && coupling && prm.level_set.dry_moving_solids)
+    {
+      // after the transports (Algorithm 1: NCLS, VOF, then drying, redistancing, mass correction)
+      std::vector<unsigned int> moving;
+      for (unsigned int k = 0; k < scene.solids.size(); ++k)
+        if (scene.solids[k].motion == SolidMotion::rigid)
+          moving.push_back(k);
+      drying = std::make_unique<SolidInteriorDrying<dim>>(*ls_space, *ncls, [this, moving](const Point<dim> &x) {
+        double d = std::numeric_limits<double>::max();
+        for (const unsigned int k : moving)
+          d = std::min(d, ibm->solids()[k]->distance(x));
+        return d;
+      });
+      physics.insert(std::find(physics.begin(), physics.end(), vof.get()) + 1, drying.get());
+      active.push_back("solid interior drying (phi = max(phi, -phi_s) inside the moving solids)");
+    }
+    else if (free_surface)
+      idle.insert(idle.begin(), "solid interior drying");
     const bool interfaces = ibm != nullptr || free_surface;
     if (ibm && prm.adaptation.enabled() && prm.immersed_boundary.interface_width > prm.adaptation.band_width)
       throw InputError("FEM/Mesh adaptation/Band width = " + std::to_string(prm.adaptation.band_width) +

@@ -169,6 +169,34 @@ namespace twinflow::fem
   }
 
   // ---------------------------------------------------------------------------------------
+  // Solid interior drying
+
+  template <int dim>
+  void SolidInteriorDrying<dim>::advance(double)
+  {
+    TimerOutput::Scope            scope(space.timer(), "solid interior drying");
+    const auto                   &phi = ncls.value();
+    TrilinosWrappers::MPI::Vector next;
+    space.reinit_owned(next);
+    bool changed = false;
+    for (const auto &[i, x] : space.support_points())
+    {
+      const double d = solid_distance(x);
+      next[i]        = phi[i];
+      if (d < 0 && phi[i] < -d)
+      {
+        next[i] = -d;
+        changed = true;
+      }
+    }
+    if (Utilities::MPI::logical_or(changed, space.communicator()))
+    {
+      next.compress(VectorOperation::insert);
+      ncls.set(next);
+    }
+  }
+
+  // ---------------------------------------------------------------------------------------
   // Mass correction
   // ---------------------------------------------------------------------------------------
   template <int dim>
@@ -331,6 +359,8 @@ namespace twinflow::fem
 
   template class Redistancing<2>;
   template class Redistancing<3>;
+  template class SolidInteriorDrying<2>;
+  template class SolidInteriorDrying<3>;
   template class MassCorrection<2>;
   template class MassCorrection<3>;
 } // namespace twinflow::fem

@@ -171,6 +171,8 @@ TEST(Composition, RigidSolidWithoutFreeSurfaceBuildsNoLevelSet)
   ASSERT_NE(sim.immersed_boundary(), nullptr);
   EXPECT_TRUE(mentions(r.active_physics, "rigid body"));
   EXPECT_FALSE(mentions(r.active_physics, "level set"));
+  EXPECT_EQ(sim.solid_drying(), nullptr); // no free surface: nothing to dry
+  EXPECT_FALSE(mentions(r.active_physics, "drying"));
   EXPECT_GT(r.adaptations, 0u); // the band moved with the body
   // it sank, and by less than free fall (buoyancy 1/20 of the weight, drag)
   const double y = r.monitors.at("body solid final y");

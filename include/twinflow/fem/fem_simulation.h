@@ -92,6 +92,7 @@ namespace twinflow::fem
     const NclsTransport<dim>                              *level_set() const { return ncls.get(); }
     const VofTransport<dim>                               *volume_fraction() const { return vof.get(); }
     Redistancing<dim>                                     *redistancing() { return redistance.get(); }
+    const SolidInteriorDrying<dim>                        *solid_drying() const { return drying.get(); }
     MassCorrection<dim>                                   *mass_correction() { return correction.get(); }
     /// Water volume, fronts and energies now (collective; free surface only).
     FreeSurfaceMeasures                                    free_surface_measures() const;
@@ -132,6 +133,7 @@ namespace twinflow::fem
     std::unique_ptr<NclsTransport<dim>>                 ncls;
     std::unique_ptr<VofTransport<dim>>                  vof;
     std::unique_ptr<Redistancing<dim>>                  redistance;
+    std::unique_ptr<SolidInteriorDrying<dim>>           drying; ///< moving solids with a free surface
     std::unique_ptr<MassCorrection<dim>>                correction;
     /// moving solids: rigid bodies co-simulated through the IBM (solids/coupling.h)
     std::unique_ptr<solids::CoSimulation>               coupling;

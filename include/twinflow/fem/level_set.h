@@ -60,6 +60,7 @@ namespace twinflow::fem
     bool         redistance       = true; ///< Eq. 14 (false: never)
     unsigned int redistancing_interval = 1; ///< steps between redistancings
     bool         mass_correction  = true; ///< Eq. 12 every step (false: θ and φ drift apart)
+    bool         dry_moving_solids = true; ///< φ ← max(φ, −φ_s) inside moving solids every step
     double       linear_tolerance = 1e-10;
 
     static void declare(dealii::ParameterHandler &prm);
@@ -290,6 +291,33 @@ namespace twinflow::fem
     NclsTransport<dim> &ncls;
     std::size_t         samples = 0;
     unsigned int        steps   = 0; ///< steps since the start (or restart)
+  };
+
+  /// A moving solid's interior holds no water: after the transports, φ ← max(φ, −φ_s) at the
+  /// DoFs inside a moving solid (φ_s < 0), the signed distance of air ∪ solid (φ > 0 in air).
+  /// The body's interior is carried as an air region by the IBM's rigid velocity, but the
+  /// smeared interface along its submerged surface lets water diffuse in step after step
+  /// (16 % of a floating disk's submerged volume in 4 s), which lowers the waterline around it.
+  /// The VOF's θ still holds that water, so the mass correction that follows puts it back at
+  /// the interfaces outside: water is conserved, only where it sits changes. A DoF whose φ
+  /// already lies above −φ_s (the smeared inner half of the body's own interface, air) is left
+  /// alone, so φ stays continuous at φ_s = 0.
+  template <int dim>
+  class SolidInteriorDrying : public FieldPhysics<dim>
+  {
+  public:
+    SolidInteriorDrying(LevelSetSpace<dim> &space, NclsTransport<dim> &ncls,
+                        std::function<double(const dealii::Point<dim> &)> solid_distance)
+      : space(space), ncls(ncls), solid_distance(std::move(solid_distance))
+    {}
+    std::string name() const override { return "solid interior drying"; }
+    void        setup_dofs() override {}
+    void        advance(double dt) override;
+
+  private:
+    LevelSetSpace<dim>                               &space;
+    NclsTransport<dim>                               &ncls;
+    std::function<double(const dealii::Point<dim> &)> solid_distance;
   };
 
   /// Eq. 12 by Newton: ∫(H_ε(φ+u) − θ) v + κ ∇u·∇v = 0 for all v (∂_n u = 0), κ = c h_K; then
