@@ -8,7 +8,8 @@ fluid force and the damping of the heave.
 
 (or FEM_CSV SPH_CSV in place of RUN: two body_cylinder.csv files of separate runs). Two panels
 against time: the centre height y(t) with the Archimedes position, and the vertical fluid force
-F_y(t) with the weight rho_s g pi r^2 L = 62.07 N. For each method it prints the deepest point
+F_y(t) (a running mean over --window, the raw history faint behind) with the weight
+rho_s g pi r^2 L = 62.07 N. For each method it prints the deepest point
 of the plunge, the damped-oscillation fit y = y_eq + e^(-lambda t)(a cos wt + b sin wt) over
 t >= --from (period, damping ratio lambda / sqrt(lambda^2 + w^2), equilibrium against
 Archimedes), and the mean force over the last quarter of its run against the weight. The paper
@@ -36,6 +37,20 @@ def load(path):
     header, rows = read(path)
     names = [h.split(" [")[0] for h in header]
     return {n: [r[k] for r in rows] for k, n in enumerate(names)}
+
+
+def running_mean(t, v, window):
+    """Centred running mean over a time window (the SPH force carries step-to-step pressure noise)."""
+    out, lo, hi, acc = [], 0, 0, 0.0
+    for k in range(len(t)):
+        while hi < len(t) and t[hi] <= t[k] + 0.5 * window:
+            acc += v[hi]
+            hi += 1
+        while t[lo] < t[k] - 0.5 * window:
+            acc -= v[lo]
+            lo += 1
+        out.append(acc / (hi - lo))
+    return out
 
 
 def summarise(name, body, t_fit, y_arch, weight):
@@ -77,6 +92,7 @@ def main():
     p.add_argument("png")
     p.add_argument("--from", dest="t_fit", type=float, default=1.0,
                    help="start of the damped-oscillation fit (after the plunge; default 1 s)")
+    p.add_argument("--window", type=float, default=0.05, help="running-mean window of the force plot [s]")
     a = p.parse_args()
     if len(a.inputs) == 1:
         csvs = [os.path.join(a.inputs[0], m, "body_cylinder.csv") for m in ("fem", "sph")]
@@ -99,7 +115,9 @@ def main():
         s = summarise(method, body, a.t_fit, y_arch, weight)
         label = method + (f" (damping ratio {s['fit']['zeta']:.3f})" if "fit" in s else "")
         ax_y.plot(body["time"], body["y"], color=colour, lw=1.2, label=label)
-        ax_f.plot(body["time"], body["Fy"], color=colour, lw=0.8, label=method)
+        ax_f.plot(body["time"], body["Fy"], color=colour, lw=0.5, alpha=0.25)
+        ax_f.plot(body["time"], running_mean(body["time"], body["Fy"], a.window), color=colour, lw=1.2,
+                  label=f"{method} (running mean over {a.window} s; raw behind)")
     ax_y.axhline(y_arch, color="k", ls="--", lw=0.8, label=f"Archimedes {y_arch:.4f} m")
     ax_y.axhline(DEPTH, color="0.6", ls=":", lw=0.8, label="still water 0.5 m")
     ax_y.set_ylabel("centre y [m]")
