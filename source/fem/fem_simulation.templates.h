@@ -199,7 +199,7 @@ namespace twinflow::fem
     {
       active.push_back("navier-stokes (two phases, variable density)");
       active.push_back("level set (Q" + std::to_string(prm.level_set.degree) + ": NCLS, VOF, " +
-                       (prm.level_set.redistance ? "redistancing, " : "") +
+                       (prm.level_set.redistance ? (prm.level_set.far_field_only ? "far-field redistancing, " : "redistancing, ") : "") +
                        (prm.level_set.mass_correction ? "mass correction" : "no mass correction") + ")");
     }
     else

@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <iterator>
 
 namespace twinflow::fem
@@ -46,10 +47,12 @@ namespace twinflow::fem
     cut_count.reinit(space.owned(), space.relevant(), space.communicator(), true);
     std::vector<types::global_dof_index> indices(n);
     std::vector<double>    values(n);
+    double                 epsilon_min = std::numeric_limits<double>::max();
     for (const auto &cell : space.dof_handler().active_cell_iterators())
     {
       if (!cell->is_locally_owned())
         continue;
+      epsilon_min = std::min(epsilon_min, space.epsilon(cell));
       cell->get_dof_indices(indices);
       double lo = 1e300, hi = -1e300;
       for (unsigned int i = 0; i < n; ++i)
@@ -119,6 +122,8 @@ namespace twinflow::fem
     }
     gradient_sum.compress(VectorOperation::add);
     cut_count.compress(VectorOperation::add);
+    const bool   far_only = space.parameters().far_field_only;
+    const double band     = space.parameters().far_field_band * Utilities::MPI::min(epsilon_min, space.communicator());
     const auto gathered = Utilities::MPI::all_gather(space.communicator(), local);
     std::vector<std::pair<Point<dim>, unsigned int>> leaves;
     std::vector<double>                              data;
@@ -143,6 +148,11 @@ namespace twinflow::fem
     for (const auto &[i, x] : space.support_points())
     {
       const double old = phi[i];
+      if (far_only && (std::abs(old) < band || cut_count[i] > 0)) // the band and the cut cells keep their φ
+      {
+        next[i] = old;
+        continue;
+      }
       if (cut_count[i] > 0)
       {
         const double slope = gradient_sum[i] / cut_count[i];

@@ -39,7 +39,12 @@ namespace twinflow::fem
                       "the interface.");
     prm.declare_entry("Correction tolerance", "1e-10", Patterns::Double(0),
                       "Newton of the mass correction stops when |int H(phi + u) - int theta| / |Omega| is below it.");
-    prm.declare_entry("Redistancing", "true", Patterns::Bool(), "Restore the signed distance (Eq. 14).");
+    prm.declare_entry("Redistancing", "true", Patterns::Selection("true|false|far field"),
+                      "Restore the signed distance (Eq. 14). true: everywhere, the cut cells rescaled to |grad phi| = 1. "
+                      "far field: only where |phi| exceeds twice the interface width of the finest cell, outside cut cells; "
+                      "the band keeps its transported phi, so the zero level and the water volume do not move, and "
+                      "the far field gets its distance back (a study switch for moving bodies, where full "
+                      "redistancing breaks the surface up; doc/user_guide.md). false: never.");
     prm.declare_entry("Redistancing interval", "1", Patterns::Integer(1, 100000),
                       "Steps between redistancings. Each one moves the zero level by ~0.01 h. A violent free "
                       "surface needs it every step (Martin & Moyce a/8: front 3.2 % every step, 5.1 % every 20); "
@@ -63,7 +68,8 @@ namespace twinflow::fem
     shock_capturing      = prm.get_double("Shock capturing");
     correction_diffusion = prm.get_double("Correction diffusion");
     correction_tolerance = prm.get_double("Correction tolerance");
-    redistance           = prm.get_bool("Redistancing");
+    redistance           = prm.get("Redistancing") != "false";
+    far_field_only       = prm.get("Redistancing") == "far field";
     redistancing_interval = prm.get_integer("Redistancing interval");
     dry_moving_solids     = prm.get_bool("Dry moving solids");
     mass_correction      = prm.get_bool("Mass correction");

@@ -94,8 +94,9 @@ namespace twinflow::testing
     std::unique_ptr<MassCorrection<2>>      correction;
 
     LevelSetRig(unsigned int refinements, const Function<2> &phi0, const Function<2> &velocity, bool mass_correction = true,
-                unsigned int redistancing_interval = 1)
+                unsigned int redistancing_interval = 1, bool far_field_redistancing = false)
     {
+      prm.far_field_only = far_field_redistancing;
       GridGenerator::hyper_cube(tria, 0, 1, true);
       tria.refine_global(refinements);
       prm.mass_correction = mass_correction;

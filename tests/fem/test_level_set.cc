@@ -63,6 +63,79 @@ TEST(LevelSet, RedistancingRestoresUnitGradientAndHoldsTheZeroLevel)
   EXPECT_LT(shift, 0.05 * h);  // Q1 interpolation of the circle itself is off by h^2/(8R) = 0.008 h
 }
 
+namespace
+{
+  /// A steep flat surface, φ = 2 (y − 0.5) (air above), whose far field in the air has been
+  /// eroded to a dip at (0.5, 0.85), 0.1 where the distance is 0.35: what the transport leaves when it carries
+  /// φ ≈ 0⁺ from the surface into the air (the step before an island of water forms).
+  class ErodedSurface : public Function<2>
+  {
+  public:
+    double value(const Point<2> &p, unsigned int = 0) const override
+    {
+      const double r2 = p.distance_square(Point<2>(0.5, 0.85));
+      return 2 * (p[1] - 0.5) - 0.6 * std::exp(-r2 / (0.06 * 0.06));
+    }
+  };
+} // namespace
+
+TEST(LevelSet, FarFieldRedistancingRepairsTheAirAndLeavesTheBandBitForBit)
+{
+  const ErodedSurface        eroded;
+  Functions::ZeroFunction<2> still(2);
+  LevelSetRig                rig(6, eroded, still, true, 1, true);
+  const TrilinosWrappers::MPI::Vector before = rig.ncls->value();
+  auto                       volume = [&] { // water volume ∫ (1 − H_ε(φ)) with the run's H_ε
+    TrilinosWrappers::MPI::Vector theta;
+    rig.space->reinit_ghosted(theta);
+    rig.space->project_heaviside(rig.ncls->value(), theta);
+    double air = 0;
+    const QGauss<2>     quad(3);
+    FEValues<2>         fev(rig.space->mapping(), rig.space->fe(), quad, update_values | update_JxW_values);
+    std::vector<double> t(quad.size());
+    for (const auto &cell : rig.space->dof_handler().active_cell_iterators())
+    {
+      fev.reinit(cell);
+      fev.get_function_values(theta, t);
+      for (unsigned int q = 0; q < quad.size(); ++q)
+        air += t[q] * fev.JxW(q);
+    }
+    return 1.0 - air;
+  };
+  const double water_before = volume();
+  rig.redistance->redistance();
+  const auto  &after = rig.ncls->value();
+  const double h = 1.0 / 64, band = 2 * rig.prm.interface_width * h;
+  double       dip_before = 1e300, dip_after = 1e300, far_error = 0;
+  unsigned int band_nodes = 0, band_changed = 0, far_nodes = 0;
+  for (const auto &[i, x] : rig.space->support_points())
+  {
+    if (std::abs(before[i]) < band)
+    {
+      ++band_nodes;
+      band_changed += after[i] != before[i];
+      continue;
+    }
+    ++far_nodes;
+    far_error = std::max(far_error, std::abs(after[i] - (x[1] - 0.5))); // the distance to y = 0.5
+    if (x.distance(Point<2>(0.5, 0.85)) < 0.03)
+    {
+      dip_before = std::min(dip_before, before[i]);
+      dip_after  = std::min(dip_after, after[i]);
+    }
+  }
+  const double water_after = volume();
+  std::cout << "far-field redistancing: " << band_nodes << " band nodes (" << band_changed << " changed), " << far_nodes
+            << " far nodes, largest distance error " << far_error / h << " h; the dip " << dip_before << " -> "
+            << dip_after << " (exact 0.35); water volume " << water_before << " -> " << water_after << std::endl;
+  EXPECT_GT(band_nodes, 2u * 65u);
+  EXPECT_EQ(band_changed, 0u);                      // Γ and H_ε(φ) untouched
+  EXPECT_LT(far_error, 1e-9);                       // the flat surface is sampled exactly
+  EXPECT_LT(dip_before, 0.15);                      // the air really was eroded (0.35 → 0.1)
+  EXPECT_NEAR(dip_after, 0.35, 0.03);               // and is a distance again
+  EXPECT_NEAR(water_after, water_before, 1e-12);    // nothing in the smeared zone moved
+}
+
 TEST(LevelSet, StillWaterUnderAirStaysAtRest)
 {
   auto [scene, prm] = twinflow::testing::load_scene(R"(

@@ -58,6 +58,10 @@ namespace twinflow::fem
     double       correction_diffusion = 10; ///< κ / h_K of the mass correction (Eq. 12)
     double       correction_tolerance = 1e-10; ///< Newton: |∫H(φ+u) − ∫θ| / ∫1 below this
     bool         redistance       = true; ///< Eq. 14 (false: never)
+    /// Redistance only the far field (|φ| beyond far_field_band ε_min), the band keeps its
+    /// transported φ: "Redistancing = far field".
+    bool         far_field_only   = false;
+    double       far_field_band   = 2.0; ///< the untouched band |φ| < this × ε of the finest cell
     unsigned int redistancing_interval = 1; ///< steps between redistancings
     bool         mass_correction  = true; ///< Eq. 12 every step (false: θ and φ drift apart)
     bool         dry_moving_solids = true; ///< φ ← max(φ, −φ_s) inside moving solids every step
@@ -272,6 +276,12 @@ namespace twinflow::fem
    * Q_k field sampled in every cut cell (points projected onto φ = 0 by Newton in reference
    * coordinates, with their normals) and gathered on all ranks; the distance is to the tangent
    * plane of the nearest samples (to the sample itself beyond the sample's patch).
+   *
+   * Far-field mode (LevelSetParameters::far_field_only): only DoFs with |φ| ≥ band (a multiple
+   * of ε on the finest cell) get the distance; the band around Γ, cut cells included, keeps
+   * the transported φ bit for bit, so Γ, H_ε(φ) and the water volume do not change, while
+   * the far field, which the transport alone erodes, gets its distance back; without the
+   * cut-cell rescaling that breaks the surface up next to a moving body.
    */
   template <int dim>
   class Redistancing : public FieldPhysics<dim>
