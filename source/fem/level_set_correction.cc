@@ -48,6 +48,7 @@ namespace twinflow::fem
     std::vector<types::global_dof_index> indices(n);
     std::vector<double>    values(n);
     double                 epsilon_min = std::numeric_limits<double>::max();
+    const bool             far_only    = space.parameters().far_field_only; // cut cells keep their φ: no slopes
     for (const auto &cell : space.dof_handler().active_cell_iterators())
     {
       if (!cell->is_locally_owned())
@@ -80,7 +81,8 @@ namespace twinflow::fem
         const double slope = (JinvT * g).norm();
         for (unsigned int i = 0; i < n; ++i)
         {
-          gradient_sum[indices[i]] += slope;
+          if (!far_only)
+            gradient_sum[indices[i]] += slope;
           cut_count[indices[i]] += 1;
         }
       }
@@ -122,8 +124,7 @@ namespace twinflow::fem
     }
     gradient_sum.compress(VectorOperation::add);
     cut_count.compress(VectorOperation::add);
-    const bool   far_only = space.parameters().far_field_only;
-    const double band     = space.parameters().far_field_band * Utilities::MPI::min(epsilon_min, space.communicator());
+    const double band = LevelSetParameters::far_field_band * Utilities::MPI::min(epsilon_min, space.communicator());
     const auto gathered = Utilities::MPI::all_gather(space.communicator(), local);
     std::vector<std::pair<Point<dim>, unsigned int>> leaves;
     std::vector<double>                              data;

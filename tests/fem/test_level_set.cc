@@ -85,27 +85,10 @@ TEST(LevelSet, FarFieldRedistancingRepairsTheAirAndLeavesTheBandBitForBit)
   Functions::ZeroFunction<2> still(2);
   LevelSetRig                rig(6, eroded, still, true, 1, true);
   const TrilinosWrappers::MPI::Vector before = rig.ncls->value();
-  auto                       volume = [&] { // water volume ∫ (1 − H_ε(φ)) with the run's H_ε
-    TrilinosWrappers::MPI::Vector theta;
-    rig.space->reinit_ghosted(theta);
-    rig.space->project_heaviside(rig.ncls->value(), theta);
-    double air = 0;
-    const QGauss<2>     quad(3);
-    FEValues<2>         fev(rig.space->mapping(), rig.space->fe(), quad, update_values | update_JxW_values);
-    std::vector<double> t(quad.size());
-    for (const auto &cell : rig.space->dof_handler().active_cell_iterators())
-    {
-      fev.reinit(cell);
-      fev.get_function_values(theta, t);
-      for (unsigned int q = 0; q < quad.size(); ++q)
-        air += t[q] * fev.JxW(q);
-    }
-    return 1.0 - air;
-  };
-  const double water_before = volume();
+  const double water_before = rig.space->water_volume(before);
   rig.redistance->redistance();
   const auto  &after = rig.ncls->value();
-  const double h = 1.0 / 64, band = 2 * rig.prm.interface_width * h;
+  const double h = 1.0 / 64, band = LevelSetParameters::far_field_band * rig.prm.interface_width * h;
   double       dip_before = 1e300, dip_after = 1e300, far_error = 0;
   unsigned int band_nodes = 0, band_changed = 0, far_nodes = 0;
   for (const auto &[i, x] : rig.space->support_points())
@@ -124,7 +107,7 @@ TEST(LevelSet, FarFieldRedistancingRepairsTheAirAndLeavesTheBandBitForBit)
       dip_after  = std::min(dip_after, after[i]);
     }
   }
-  const double water_after = volume();
+  const double water_after = rig.space->water_volume(after);
   std::cout << "far-field redistancing: " << band_nodes << " band nodes (" << band_changed << " changed), " << far_nodes
             << " far nodes, largest distance error " << far_error / h << " h; the dip " << dip_before << " -> "
             << dip_after << " (exact 0.35); water volume " << water_before << " -> " << water_after << std::endl;

@@ -61,7 +61,7 @@ namespace twinflow::fem
     /// Redistance only the far field (|φ| beyond far_field_band ε_min), the band keeps its
     /// transported φ: "Redistancing = far field".
     bool         far_field_only   = false;
-    double       far_field_band   = 2.0; ///< the untouched band |φ| < this × ε of the finest cell
+    static constexpr double far_field_band = 2.0; ///< the untouched band |φ| < this × ε of the finest cell
     unsigned int redistancing_interval = 1; ///< steps between redistancings
     bool         mass_correction  = true; ///< Eq. 12 every step (false: θ and φ drift apart)
     bool         dry_moving_solids = true; ///< φ ← max(φ, −φ_s) inside moving solids every step
