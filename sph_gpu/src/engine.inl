@@ -394,8 +394,8 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
         return multigrid_on ? bicgstab(nl.offsets, nl.indices, values, rhs, solution, settings.pressure_solver, multigrid)
                             : bicgstab(nl.offsets, nl.indices, values, rhs, solution, settings.pressure_solver);
       };
-      pressure_alpharessure = settings.density_correction == DensityCorrection::position && settings.alpha > 0;
-      if (pressure_alpharessure)
+      position_correction = settings.density_correction == DensityCorrection::position && settings.alpha > 0;
+      if (position_correction)
       {
         // The α-blended pressure p_α (Eq. 55) moves the particles; their velocity is projected with
         // α = 0 (Eq. 52), so the density-error correction displaces particles without giving them
@@ -408,7 +408,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
         make_confined_rhs_compatible();
       }
       const SolverResult result = solve(pressure);
-      if (pressure_alpharessure)
+      if (position_correction)
         report.pressure.converged = report.pressure.converged && result.converged;
       else
         report.pressure = result;
@@ -456,7 +456,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       compute_solid_forces(dt); // needs u*, p^{n+1}, ∇p and the step's positions: before the move
       if (settings.shifting > 0)
         thrust::copy(exec, x.begin(), x.end(), x_start.begin());
-      if (pressure_alpharessure)
+      if (position_correction)
       {
         // q = p_α − p: moves the particles, x^{n+1} = x^n + Δt u^{n+1} − Δt²/ρ0 ∇q, not their velocity
         density_q.resize(n);
@@ -479,7 +479,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       detail::CorrectAndMove<dim> cm;
       cm.p         = particles();
       cm.grad_p    = components(grad_p);
-      if (pressure_alpharessure)
+      if (position_correction)
         cm.grad_q = components(grad_q);
       cm.box       = box;
       cm.dt        = dt;
@@ -702,7 +702,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     static constexpr bool pin_confined_pressure = false;
     double             m0 = 0, pe_moved = 0; ///< pe_moved: potential energy before the shift
     int                n = 0, pinned = -1;
-    bool               pressure_alpharessure = false;
+    bool               position_correction = false;
     StepReport         report;
   };
 
