@@ -125,6 +125,10 @@ namespace twinflow::fem
       throw InputError("Forces/Gravity: a free surface needs gravity along one axis pointing to the lower corner "
                        "(e.g. 0, -9.81); got a direction the FEM level set does not know as 'down'");
     vertical_axis = axis;
+    double diameter_sq = 0;
+    for (unsigned int d = 0; d < dim; ++d)
+      diameter_sq += (scene.domain.upper[d] - scene.domain.lower[d]) * (scene.domain.upper[d] - scene.domain.lower[d]);
+    domain_diameter = std::sqrt(diameter_sq);
     two_fluids    = {scene.fluids[0].density, scene.fluids[0].viscosity, scene.fluids[1].density,
                      scene.fluids[1].viscosity};
     if (prm.adaptation.enabled() && prm.level_set.interface_width > prm.adaptation.band_width)
@@ -172,11 +176,12 @@ namespace twinflow::fem
     const double rise  = (e_all - initial_energy) / std::abs(initial_energy);
     worst_volume_drift = std::max(worst_volume_drift, std::abs(drift));
     worst_energy_rise  = std::max(worst_energy_rise, rise);
+    worst_phi_range    = std::max({worst_phi_range, -m.phi_min / domain_diameter, m.phi_max / domain_diameter});
     energy_csv->append({t, m.kinetic_water, m.potential_water, e_water, e_all, divergence, dt,
                         double(tria.n_global_active_cells())});
     front_csv->append({t, m.x_front, m.max_water_speed, m.x_foremost, navier_stokes->max_velocity()});
     std::vector<double> volume_row{t, m.water_volume, drift, correction->last_correction(),
-                                   double(correction->last_newton_iterations())};
+                                   double(correction->last_newton_iterations()), m.phi_min, m.phi_max};
     if (ibm)
       volume_row.push_back(ls_space->water_volume(ncls->value(), [this](const Point<dim> &x) {
         for (const auto &s : ibm->solids())
@@ -190,6 +195,7 @@ namespace twinflow::fem
     result.monitors["water volume"]               = m.water_volume;
     result.monitors["water volume drift (max)"]   = worst_volume_drift;
     result.monitors["energy rise (max)"]          = worst_energy_rise;
+    result.monitors["level set |phi| / diameter (max)"] = worst_phi_range;
     result.monitors["x_front"]                    = m.x_front;
     result.monitors["kinetic energy"]             = m.kinetic_water;
     result.monitors["total energy"]               = e_water;

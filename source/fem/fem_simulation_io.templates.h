@@ -73,8 +73,9 @@ namespace twinflow::fem
       // max speed: in the water, as SPH's (no air there); max speed all phases: what the CFL sees
       front_csv  = open("front.csv", {"time", "x_front", "max speed", "x_foremost", "max speed all phases"},
                         {"s", "m", "m/s", "m", "m/s"}, "front");
-      std::vector<std::string> cols{"time", "water volume", "relative drift", "max correction", "newton iterations"},
-        units{"s", "m^dim", "-", "m", "-"};
+      std::vector<std::string> cols{"time",           "water volume", "relative drift", "max correction",
+                                    "newton iterations", "phi min",     "phi max"},
+        units{"s", "m^dim", "-", "m", "-", "m", "m"};
       if (ibm)
       {
         // the level set's water inside the solids (their ghost region): not water the body displaces
@@ -292,6 +293,8 @@ namespace twinflow::fem
                         "relative to the initial water volume int (1 - H_eps(phi))");
       summary.add_error("energy rise above the initial value (max over the run)", worst_energy_rise, 0.0, 5e-3,
                         "kinetic + potential energy of both phases; a dam break is dissipative");
+      summary.add_error("level set |phi| / domain diameter (max over the run)", worst_phi_range, 0.0, 1.0,
+                        "a distance in the domain is below its diameter; above it phi has run away");
     }
     if (ls_space)
       io::add_front_reference_errors(scene, front_time, front_position, summary, result.monitors);

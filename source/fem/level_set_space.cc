@@ -528,6 +528,14 @@ namespace twinflow::fem
     m.x_front         = Utilities::MPI::max(front, comm);
     m.x_foremost      = Utilities::MPI::max(foremost, comm);
     m.max_water_speed = Utilities::MPI::max(m.max_water_speed, comm);
+    double lo = std::numeric_limits<double>::max(), hi = -lo;
+    for (const auto i : phi.locally_owned_elements())
+    {
+      lo = std::min(lo, double(phi[i]));
+      hi = std::max(hi, double(phi[i]));
+    }
+    m.phi_min = Utilities::MPI::min(lo, comm);
+    m.phi_max = Utilities::MPI::max(hi, comm);
     return m;
   }
 

@@ -158,6 +158,8 @@ namespace twinflow::fem
     std::unique_ptr<io::CsvMonitor> forces_csv, probes_csv, energy_csv, front_csv, volume_csv;
     /// Free-surface history for the summary: initial volume and energy, worst drift and rise.
     double initial_volume = 0, initial_energy = 0, worst_volume_drift = 0, worst_energy_rise = 0;
+    /// max over the run of max|φ| / domain_diameter (volume.csv has φ's range per record)
+    double worst_phi_range = 0, domain_diameter = 1;
     std::vector<double> front_time, front_position;
     std::unique_ptr<io::SnapshotSchedule> snapshots;
     std::unique_ptr<io::PvdSeries>  pvd;

@@ -394,6 +394,10 @@ namespace twinflow::fem
     /// largest |u| at the velocity quadrature points in the water (φ < 0): what SPH's
     /// "max speed" measures (it has no air); the CFL step uses the largest over both phases
     double max_water_speed = 0;
+    /// range of the nodal φ: a (transported, redistanced) distance stays within the domain's
+    /// diameter; beyond it the level set in the air has run away (doc/benchmarks.md, 3D falling
+    /// cylinder without redistancing: −6.7 in a 1.4 m box)
+    double phi_min = 0, phi_max = 0;
   };
 
   template <int dim>
