@@ -54,16 +54,16 @@ namespace twinflow::fem
       if (!cell->is_locally_owned())
         continue;
       epsilon_min = std::min(epsilon_min, space.epsilon(cell));
-      cell->get_dof_indices(indices);
+      space.reader().gather(cell, phi, values);
       double lo = 1e300, hi = -1e300;
       for (unsigned int i = 0; i < n; ++i)
       {
-        values[i] = phi[indices[i]];
         lo = std::min(lo, values[i]);
         hi = std::max(hi, values[i]);
       }
       if (lo > 0 || hi < 0)
         continue;
+      cell->get_dof_indices(indices);
       // Parallelepiped cell (box meshes): x = v0 + J ξ.
       Tensor<2, dim> J;
       for (unsigned int d = 0; d < dim; ++d)
@@ -216,6 +216,8 @@ namespace twinflow::fem
     jacobian.reinit(space.owned(), space.owned(), space.sparsity(), space.communicator());
     jacobian_scatter.clear();
     space.reinit_ghosted(correction);
+    amg_age = amg_lifetime; // a new mesh: a new hierarchy at the next correction
+    domain  = 0;
   }
 
   template <int dim>
@@ -243,10 +245,12 @@ namespace twinflow::fem
     std::vector<double>         local;
     const FEValuesExtractors::Scalar scalar(0);
     const MPI_Comm comm = space.communicator();
-    double domain = 0;
-    for (const auto i : space.owned())
-      domain += space.lumped_mass()[i];
-    domain = Utilities::MPI::sum(domain, comm);
+    if (domain == 0) // once per mesh
+    {
+      for (const auto i : space.owned())
+        domain += space.lumped_mass()[i];
+      domain = Utilities::MPI::sum(domain, comm);
+    }
 
     TrilinosWrappers::MPI::Vector u_owned, residual, delta;
     space.reinit_owned(u_owned);
@@ -254,7 +258,7 @@ namespace twinflow::fem
     space.reinit_owned(delta);
     correction = 0;
     newton     = 0;
-    TrilinosWrappers::PreconditionAMG amg;
+    ++amg_age;
     // ∫ (H_ε(φ + u) − θ): the volume constraint alone, without the Jacobian.
     const auto volume_mismatch = [&] {
       double m = 0;
@@ -327,15 +331,16 @@ namespace twinflow::fem
       // The volume constraint (the equation tested with v = 1) is met once Newton has moved.
       if (newton == 0 && std::abs(mismatch) < prm.correction_tolerance * domain && residual.linfty_norm() == 0)
         break;
-      if (newton == 0)
+      if (newton == 0 && amg_age > amg_lifetime)
       {
-        // Set up once per step: the later Newton Jacobians differ only through δ_ε(φ + u) and
-        // CG still converges to the same tolerance with the first one's hierarchy.
+        // Set up every amg_lifetime steps: the later Jacobians differ only through δ_ε(φ + u),
+        // and CG still converges to the same tolerance with an older one's hierarchy.
         TrilinosWrappers::PreconditionAMG::AdditionalData data;
         data.elliptic              = true;
         data.higher_order_elements = fe.degree > 1;
         data.smoother_sweeps       = 2;
         amg.initialize(jacobian, data);
+        amg_age = 1;
       }
       delta = 0;
       SolverControl control(1000, std::max(1e-12 * residual.l2_norm(), 1e-300));

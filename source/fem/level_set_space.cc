@@ -196,6 +196,25 @@ namespace twinflow::fem
     return sum / indices.size();
   }
 
+  namespace
+  {
+    /// Values of a field of the space at the points of @p fev on @p cell: through the cell
+    /// reader for a ghosted vector of the space, through Epetra's look-up otherwise.
+    template <int dim>
+    void field_values(const LevelSetSpace<dim> &space, const typename DoFHandler<dim>::active_cell_iterator &cell,
+                      const TrilinosWrappers::MPI::Vector &v, const FEValues<dim> &fev, std::vector<double> &local,
+                      std::vector<double> &out)
+    {
+      if (space.reader().reads(v))
+      {
+        space.reader().gather(cell, v, local);
+        fev[FEValuesExtractors::Scalar(0)].get_function_values_from_local_dof_values(local, out);
+      }
+      else
+        fev.get_function_values(v, out);
+    }
+  } // namespace
+
   template <int dim>
   void LevelSetSpace<dim>::project_heaviside(const TrilinosWrappers::MPI::Vector &phi,
                                              TrilinosWrappers::MPI::Vector       &theta) const
@@ -206,13 +225,13 @@ namespace twinflow::fem
     FEValues<dim>      fev(map, finite_element, quad, update_values | update_JxW_values);
     const unsigned int n = finite_element.n_dofs_per_cell();
     Vector<double>     local(n);
-    std::vector<double> phi_q(quad.size());
+    std::vector<double> phi_q(quad.size()), cell_phi;
     std::vector<types::global_dof_index> indices(n);
     for (const auto &cell : dofs.active_cell_iterators())
       if (cell->is_locally_owned())
       {
         fev.reinit(cell);
-        fev.get_function_values(phi, phi_q);
+        field_values(*this, cell, phi, fev, cell_phi, phi_q);
         const double eps = epsilon(cell);
         local = 0;
         for (unsigned int q = 0; q < quad.size(); ++q)
@@ -251,13 +270,13 @@ namespace twinflow::fem
     const QGauss<dim>   quad = nonlinear_quadrature();
     FEValues<dim>       fev(map, finite_element, quad,
                             update_values | update_JxW_values | (inside ? update_quadrature_points : update_default));
-    std::vector<double> phi_q(quad.size());
+    std::vector<double> phi_q(quad.size()), cell_phi;
     double              v = 0;
     for (const auto &cell : dofs.active_cell_iterators())
       if (cell->is_locally_owned())
       {
         fev.reinit(cell);
-        fev.get_function_values(phi, phi_q);
+        field_values(*this, cell, phi, fev, cell_phi, phi_q);
         const double eps = epsilon(cell);
         for (unsigned int q = 0; q < quad.size(); ++q)
           if (!inside || inside(fev.quadrature_point(q)))
@@ -474,7 +493,7 @@ namespace twinflow::fem
                            update_values | update_JxW_values | update_quadrature_points);
     FEValues<dim>      fel(space.mapping(), space.fe(), quad, update_values);
     std::vector<Tensor<1, dim>> u(quad.size());
-    std::vector<double>         phi_q(quad.size());
+    std::vector<double>         phi_q(quad.size()), local_u, local_phi;
     double front = -std::numeric_limits<double>::max(), foremost = front;
     const double tol = 1e-9 * (1 + std::abs(floor_height));
     for (const auto &cell : flow.velocity_dof_handler().active_cell_iterators())
@@ -483,8 +502,9 @@ namespace twinflow::fem
         fev.reinit(cell);
         const auto lcell = space.cell_of(cell);
         fel.reinit(lcell);
-        fev[FEValuesExtractors::Vector(0)].get_function_values(flow.velocity(), u);
-        fel.get_function_values(phi, phi_q);
+        flow.velocity_reader().gather(cell, flow.velocity(), local_u);
+        fev[FEValuesExtractors::Vector(0)].get_function_values_from_local_dof_values(local_u, u);
+        field_values(space, lcell, phi, fel, local_phi, phi_q);
         const double eps = space.epsilon(cell);
         for (unsigned int q = 0; q < quad.size(); ++q)
         {

@@ -61,6 +61,34 @@ namespace twinflow::fem
       std::vector<double>         div, div_old;
       std::vector<double>         local, local_old;
     };
+
+    /// The midpoint velocity at the points of @p quad on every owned cell, from the table of
+    /// the space when it holds this flow state (the second transport of a step), else computed.
+    template <int dim>
+    const typename LevelSetSpace<dim>::MidpointTable &midpoint_values(const LevelSetSpace<dim> &space,
+                                                                      const NavierStokes<dim>  &flow,
+                                                                      const Quadrature<dim>    &quad)
+    {
+      auto &table = space.midpoint_table();
+      if (table.flow_state == flow.state_id() && table.n_points == quad.size())
+        return table;
+      const unsigned int nq      = quad.size();
+      const std::size_t  n_cells = space.dof_handler().get_triangulation().n_active_cells();
+      table.u.assign(n_cells * nq, Tensor<1, dim>());
+      table.div.assign(n_cells * nq, 0.0);
+      MidpointVelocity<dim> mid(flow, quad);
+      for (const auto &cell : space.dof_handler().active_cell_iterators())
+        if (cell->is_locally_owned())
+        {
+          mid.reinit(cell);
+          const std::size_t first = cell->active_cell_index() * nq;
+          std::copy(mid.u.begin(), mid.u.end(), table.u.begin() + first);
+          std::copy(mid.div.begin(), mid.div.end(), table.div.begin() + first);
+        }
+      table.flow_state = flow.state_id();
+      table.n_points   = nq;
+      return table;
+    }
   } // namespace
 
   template <int dim>
@@ -75,7 +103,7 @@ namespace twinflow::fem
     const QGauss<dim - 1> face_quad(fe.degree + 2);
     const auto        &vdofs = flow.velocity_dof_handler();
     FEValues<dim>      fev(space.mapping(), fe, quad, update_values | update_gradients | update_JxW_values);
-    MidpointVelocity<dim> mid(flow, quad);
+    const auto &mid = midpoint_values(space, flow, quad);
     FEFaceValues<dim>  ffv(space.mapping(), fe, face_quad, update_values | update_JxW_values | update_normal_vectors);
     FEFaceValues<dim>  ffu(flow.get_mapping(), vdofs.get_fe(), face_quad, update_values);
     const unsigned int n  = fe.n_dofs_per_cell();
@@ -95,7 +123,7 @@ namespace twinflow::fem
       if (!cell->is_locally_owned())
         continue;
       fev.reinit(cell);
-      const auto vcell = mid.reinit(cell);
+      const std::size_t first = cell->active_cell_index() * nq;
       space.reader().gather(cell, current, local_old);
       fev[scalar].get_function_values_from_local_dof_values(local_old, val_old);
       fev[scalar].get_function_gradients_from_local_dof_values(local_old, grad_old);
@@ -105,14 +133,14 @@ namespace twinflow::fem
       b = 0;
       for (unsigned int q = 0; q < nq; ++q)
       {
-        const Tensor<1, dim> u   = mid.u[q];
+        const Tensor<1, dim> u   = mid.u[first + q];
         // θ (conservative): ∂θ/∂t + ∇·(θu) = 0. φ: ∂φ/∂t + u·∇φ + ½(∇·u)φ = 0, the skew-
         // symmetric form: ∇·u = 0 in the continuum, but the discrete u_h has a pointwise
         // divergence (next to no-slip walls), and the Galerkin u_h·∇φ then feeds ½∫(−∇·u_h)φ²
         // into φ: a node-to-node oscillation of φ along the top wall of the falling cylinder grew
         // to φ = 2.8 (the domain's diameter is 1.4) with water droplets on the ceiling. The
         // added term vanishes where φ = 0, so it does not move the interface.
-        const double div = conservative ? mid.div[q] : 0.5 * mid.div[q];
+        const double div = conservative ? mid.div[first + q] : 0.5 * mid.div[first + q];
         const double         tau = supg_tau(dt, u.norm(), h);
         const double         JxW = fev.JxW(q);
         for (unsigned int i = 0; i < n; ++i)
@@ -150,7 +178,9 @@ namespace twinflow::fem
           if (cell->face(f)->at_boundary() && open_boundaries.count(cell->face(f)->boundary_id()))
           {
             ffv.reinit(cell, f);
-            ffu.reinit(vcell, f);
+            ffu.reinit(typename DoFHandler<dim>::active_cell_iterator(&cell->get_triangulation(), cell->level(),
+                                                                      cell->index(), &vdofs),
+                       f);
             ffu[vel].get_function_values(flow.velocity(), fu_new);
             ffu[vel].get_function_values(flow.previous_velocity(), fu_old);
             ffv.get_function_values(current, fval_old);

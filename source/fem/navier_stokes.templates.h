@@ -152,24 +152,32 @@ namespace twinflow::fem
     make_velocity_constraints(current_time);
     make_pressure_constraints();
 
+    // Only the symmetric stress 2με(u) couples two velocity components (momentum_term.h):
+    // with μ∇u the momentum matrix has the same-component pattern, 1/dim of the entries of
+    // the full one (fewer products in every Krylov iteration, less to assemble and zero).
+    Table<2, DoFTools::Coupling> same_component(dim, dim), momentum_coupling(dim, dim);
+    for (unsigned int c = 0; c < dim; ++c)
+      for (unsigned int d = 0; d < dim; ++d)
+      {
+        same_component[c][d]    = c == d ? DoFTools::always : DoFTools::none;
+        momentum_coupling[c][d] = c == d || symmetric_stress() ? DoFTools::always : DoFTools::none;
+      }
     {
       DynamicSparsityPattern dsp(velocity_relevant);
-      DoFTools::make_sparsity_pattern(velocity_dofs, dsp, velocity_constraints, false);
+      DoFTools::make_sparsity_pattern(velocity_dofs, momentum_coupling, dsp, velocity_constraints, false);
       SparsityTools::distribute_sparsity_pattern(dsp, velocity_owned, comm, velocity_relevant);
       velocity_matrix.reinit(velocity_owned, velocity_owned, dsp, comm);
     }
     if (prm.variable_projection)
     {
-      // the L²(ρ) mass couples no two components: half the entries of the momentum matrix
-      Table<2, DoFTools::Coupling> same_component(dim, dim);
-      for (unsigned int c = 0; c < dim; ++c)
-        for (unsigned int d = 0; d < dim; ++d)
-          same_component[c][d] = c == d ? DoFTools::always : DoFTools::none;
+      // the L²(ρ) mass couples no two components
       DynamicSparsityPattern dsp(velocity_relevant);
       DoFTools::make_sparsity_pattern(velocity_dofs, same_component, dsp, velocity_constraints, false);
       SparsityTools::distribute_sparsity_pattern(dsp, velocity_owned, comm, velocity_relevant);
       velocity_mass.reinit(velocity_owned, velocity_owned, dsp, comm);
     }
+    if (velocity_corrected())
+      assemble_pressure_gradient();
     {
       DynamicSparsityPattern dsp(pressure_relevant);
       DoFTools::make_sparsity_pattern(pressure_dofs, dsp, increment_constraints, false);
@@ -180,6 +188,7 @@ namespace twinflow::fem
       assemble_pressure_laplacian();
     rebuild_velocity_preconditioner = true;
 
+    ++state_counter;
     velocity_rhs.reinit(velocity_owned, comm);
     last_correction.reinit(velocity_owned, comm);
     pressure_rhs.reinit(pressure_owned, comm);
@@ -212,6 +221,55 @@ namespace twinflow::fem
       }
     pressure_laplace.compress(VectorOperation::add);
     initialize_pressure_amg();
+  }
+
+  template <int dim>
+  void NavierStokes<dim>::assemble_pressure_gradient()
+  {
+    // Columns are not condensed: φ is the full, distributed increment.
+    AffineConstraints<double>            no_constraints;
+    const unsigned int                   nv = fe_velocity.n_dofs_per_cell(), np = fe_pressure.n_dofs_per_cell();
+    std::vector<types::global_dof_index> vi(nv), pi(np);
+    const auto pressure_cell = [&](const auto &cell) {
+      return typename DoFHandler<dim>::active_cell_iterator(&tria, cell->level(), cell->index(), &pressure_dofs);
+    };
+    DynamicSparsityPattern dsp(velocity_dofs.n_dofs(), pressure_dofs.n_dofs(), velocity_relevant);
+    for (const auto &cell : velocity_dofs.active_cell_iterators())
+      if (cell->is_locally_owned())
+      {
+        cell->get_dof_indices(vi);
+        pressure_cell(cell)->get_dof_indices(pi);
+        velocity_constraints.add_entries_local_to_global(vi, no_constraints, pi, dsp, false);
+      }
+    SparsityTools::distribute_sparsity_pattern(dsp, velocity_owned, comm, velocity_relevant);
+    pressure_gradient.reinit(velocity_owned, pressure_owned, dsp, comm);
+
+    const QGauss<dim>  quad(fe_velocity.degree + 1);
+    FEValues<dim>      fev(mapping, fe_velocity, quad, update_values | update_JxW_values);
+    FEValues<dim>      fep(mapping, fe_pressure, quad, update_gradients);
+    FullMatrix<double> cell_matrix(nv, np);
+    std::vector<unsigned int> comp(nv);
+    for (unsigned int i = 0; i < nv; ++i)
+      comp[i] = fe_velocity.system_to_component_index(i).first;
+    for (const auto &cell : velocity_dofs.active_cell_iterators())
+      if (cell->is_locally_owned())
+      {
+        fev.reinit(cell);
+        const auto pcell = pressure_cell(cell);
+        fep.reinit(pcell);
+        cell_matrix = 0;
+        for (unsigned int q = 0; q < quad.size(); ++q)
+          for (unsigned int i = 0; i < nv; ++i)
+          {
+            const double vi_JxW = fev.shape_value(i, q) * fev.JxW(q);
+            for (unsigned int j = 0; j < np; ++j)
+              cell_matrix(i, j) += fep.shape_grad(j, q)[comp[i]] * vi_JxW;
+          }
+        cell->get_dof_indices(vi);
+        pcell->get_dof_indices(pi);
+        velocity_constraints.distribute_local_to_global(cell_matrix, vi, no_constraints, pi, pressure_gradient);
+      }
+    pressure_gradient.compress(VectorOperation::add);
   }
 
   template <int dim>
@@ -261,6 +319,7 @@ namespace twinflow::fem
     }
     phi_n   = 0;
     phi_nm1 = 0;
+    ++state_counter;
   }
 
   template <int dim>
@@ -298,6 +357,7 @@ namespace twinflow::fem
     current_time   = t_new;
     have_history   = true;
     ++step_number;
+    ++state_counter;
     return stats;
   }
 
@@ -320,6 +380,7 @@ namespace twinflow::fem
     dt_before_last = s.dt_before_last;
     step_number    = s.step_number;
     have_history   = s.have_history;
+    ++state_counter;
   }
 
   template <int dim>
@@ -365,6 +426,8 @@ namespace twinflow::fem
       representative[base[i]] = i;
     }
     FullMatrix<double>              scalar_block(n_scalar, n_scalar), mass_block(n_scalar, n_scalar), cell_mass(n, n);
+    FullMatrix<double>              reference_mass(n_scalar, n_scalar), reference_stiffness(n_scalar, n_scalar);
+    bool                            reference_valid = false;
     std::vector<FullMatrix<double>> cross_blocks(symmetric ? dim * dim : 0, FullMatrix<double>(n_scalar, n_scalar));
     std::vector<double>         s(n_scalar), conv(n_scalar), fraction(nq);
     std::vector<Tensor<1, dim>> ds(n_scalar), u_star(nq);
@@ -395,8 +458,11 @@ namespace twinflow::fem
       velocity_cells.gather(cell, u_nm1, local_u_old);
       fev[vel].get_function_values_from_local_dof_values(local_u, un);
       fev[vel].get_function_values_from_local_dof_values(local_u_old, unm1);
-      fev[vel].get_function_divergences_from_local_dof_values(local_u, div_un);
-      fev[vel].get_function_divergences_from_local_dof_values(local_u_old, div_unm1);
+      if (constant) // ½ρ(∇·u*) of the single-phase form
+      {
+        fev[vel].get_function_divergences_from_local_dof_values(local_u, div_un);
+        fev[vel].get_function_divergences_from_local_dof_values(local_u_old, div_unm1);
+      }
       for (auto [v, out] : {std::pair{&p_n, &p_val}, {&phi_n, &phi_val}, {&phi_nm1, &phim_val}})
       {
         pressure_cells.gather(pcell, *v, local_p);
@@ -432,13 +498,47 @@ namespace twinflow::fem
       if (with_mass)
         mass_block = 0;
       cell_rhs = 0;
+      // A cell of one material (ρ̄_K and μ the same at every point: all but the band of the
+      // interface) and no other physics: inertia and viscosity are ρ̄ α0/τ M + μ K with the
+      // cell's mass and stiffness M_ab = ∫s_a s_b, K_ab = ∫∇s_a·∇s_b, which a translated cell
+      // shares with the previous one (deal.II's cell similarity): only convection is summed
+      // per point.
+      bool uniform = !constant && !symmetric && active_terms.empty();
+      for (unsigned int q = 1; q < nq && uniform; ++q)
+        uniform = mat.viscosity[q] == mat.viscosity[0] && mat.density[q] == mat.density[0];
+      if (uniform)
+      {
+        if (!reference_valid || fev.get_cell_similarity() != CellSimilarity::translation)
+        {
+          reference_mass      = 0;
+          reference_stiffness = 0;
+          for (unsigned int q = 0; q < nq; ++q)
+            for (unsigned int a = 0; a < n_scalar; ++a)
+            {
+              const double         sa  = fev.shape_value(representative[a], q) * fev.JxW(q);
+              const Tensor<1, dim> dsa = fev.shape_grad(representative[a], q) * fev.JxW(q);
+              for (unsigned int b = 0; b < n_scalar; ++b)
+              {
+                reference_mass(a, b) += sa * fev.shape_value(representative[b], q);
+                reference_stiffness(a, b) += dsa * fev.shape_grad(representative[b], q);
+              }
+            }
+          reference_valid = true;
+        }
+        const double rho = mat.density[0], mu = mat.viscosity[0];
+        scalar_block.add(rho * c.a0 / dt, reference_mass, mu, reference_stiffness);
+        if (with_mass)
+          mass_block.add(rho, reference_mass);
+      }
+      else
+        reference_valid = false; // the next uniform cell computes M and K again
       for (unsigned int q = 0; q < nq; ++q)
       {
         // Inertia, convection, viscosity and body force act on the fluid fraction w; the
         // pressure gradient everywhere (Section 3.3.1: inside a solid only ∇p and the penalty).
         const double w = fraction[q];
         const double rho = w * mat.density[q], mu = w * mat.viscosity[q], JxW = fev.JxW(q);
-        const double div_star = c.e0 * div_un[q] + c.e1 * div_unm1[q];
+        const double div_star = constant ? c.e0 * div_un[q] + c.e1 * div_unm1[q] : 0.0;
         const double mass = rho * c.a0 / dt + (constant ? 0.5 * rho * div_star : 0.0);
         // σ^{n+1}σ^k: ρ itself for a constant material (√(ρ·ρ) = ρ exactly in IEEE arithmetic)
         Tensor<1, dim> rhs = -w / dt *
@@ -463,8 +563,15 @@ namespace twinflow::fem
           ds[a]   = fev.shape_grad(representative[a], q);
           conv[a] = u_star[q] * ds[a];
         }
+        if (uniform) // skew = ½: ½ρ(s_a conv_b − conv_a s_b) + sd conv_a conv_b
+          for (unsigned int a = 0; a < n_scalar; ++a)
+          {
+            const double ca = conv[a] * JxW, wa = 0.5 * rho * s[a] * JxW + sd * ca, ma = 0.5 * rho * ca;
+            for (unsigned int b = 0; b < n_scalar; ++b)
+              scalar_block(a, b) += wa * conv[b] - ma * s[b];
+          }
         // test a, trial b
-        for (unsigned int a = 0; a < n_scalar; ++a)
+        for (unsigned int a = 0; a < n_scalar && !uniform; ++a)
         {
           const double sa = s[a] * JxW, ca = conv[a] * JxW;
           const Tensor<1, dim> mu_da = (mu * JxW) * ds[a];

@@ -109,35 +109,10 @@ namespace twinflow::fem
     // u^{n+1} = ũ − (τ/α0) δ with M_ρ δ = (∇φ, v): the L²(ρ^{n+1}) projection of
     // ũ − τ/(α0 ρ) ∇φ, with M_ρ assembled beside the momentum matrix (same ρ^{n+1}).
     TimerOutput::Scope scope(timer_output, "velocity correction");
-    const TrilinosWrappers::MPI::Vector &phi = phi_n; // the increment just solved for
-    velocity_rhs = 0;
-    const QGauss<dim>  quad(fe_velocity.degree + 1);
-    FEValues<dim>      fev(mapping, fe_velocity, quad, update_values | update_JxW_values);
-    FEValues<dim>      fep(mapping, fe_pressure, quad, update_gradients);
-    const unsigned int n = fe_velocity.n_dofs_per_cell();
-    Vector<double>     cell_rhs(n);
-    std::vector<types::global_dof_index> indices(n);
-    std::vector<Tensor<1, dim>> grad_phi(quad.size());
-    std::vector<double>         local_phi;
-    std::vector<unsigned int>   comp(n);
-    for (unsigned int i = 0; i < n; ++i)
-      comp[i] = fe_velocity.system_to_component_index(i).first;
-    for (const auto &cell : velocity_dofs.active_cell_iterators())
-      if (cell->is_locally_owned())
-      {
-        fev.reinit(cell);
-        const typename DoFHandler<dim>::active_cell_iterator pcell(&tria, cell->level(), cell->index(), &pressure_dofs);
-        fep.reinit(pcell);
-        pressure_cells.gather(pcell, phi, local_phi);
-        fep[FEValuesExtractors::Scalar(0)].get_function_gradients_from_local_dof_values(local_phi, grad_phi);
-        cell_rhs = 0;
-        for (unsigned int q = 0; q < quad.size(); ++q)
-          for (unsigned int i = 0; i < n; ++i)
-            cell_rhs(i) += grad_phi[q][comp[i]] * fev.shape_value(i, q) * fev.JxW(q);
-        cell->get_dof_indices(indices);
-        velocity_constraints.distribute_local_to_global(cell_rhs, indices, velocity_rhs);
-      }
-    velocity_rhs.compress(VectorOperation::add);
+    // (∇φ, v) = G φ: one product with the matrix of the mesh instead of a cell loop
+    TrilinosWrappers::MPI::Vector phi(pressure_owned, comm);
+    phi = phi_n; // the increment just solved for
+    pressure_gradient.vmult(velocity_rhs, phi);
     // The last step's correction is the guess (δ follows the increment ∇φ, smooth in time).
     TrilinosWrappers::MPI::Vector &delta = last_correction; // sized by setup_dofs()
     TrilinosWrappers::PreconditionJacobi jacobi;

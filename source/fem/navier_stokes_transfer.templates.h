@@ -77,6 +77,7 @@ namespace twinflow::fem
     finish(*pressure_transfer, pressure_dofs, pressure_owned, pressure_relevant, {&p_n, &phi_n, &phi_nm1});
     velocity_transfer.reset();
     pressure_transfer.reset();
+    ++state_counter;
   }
 
   template <int dim>
@@ -96,5 +97,6 @@ namespace twinflow::fem
                 ExcMessage("checkpoint metadata: the navier-stokes line is missing or malformed"));
     make_velocity_constraints(current_time);
     rebuild_velocity_preconditioner = true;
+    ++state_counter;
   }
 } // namespace twinflow::fem

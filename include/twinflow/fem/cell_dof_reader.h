@@ -54,6 +54,9 @@ namespace twinflow::fem
         }
     }
 
+    /// Whether @p v is a ghosted vector on the reader's index sets (gather() may read it).
+    bool reads(const dealii::TrilinosWrappers::MPI::Vector &v) const { return v.trilinos_vector().MyLength() == n_local; }
+
     /// The values of the ghosted vector @p v at the DoFs of the locally owned @p cell.
     template <typename CellIterator>
     void gather(const CellIterator &cell, const dealii::TrilinosWrappers::MPI::Vector &v,

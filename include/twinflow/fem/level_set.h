@@ -40,6 +40,8 @@
 #include <deal.II/lac/trilinos_vector.h>
 
 #include <map>
+#include <cstdint>
+#include <limits>
 #include <memory>
 #include <array>
 #include <functional>
@@ -162,7 +164,20 @@ namespace twinflow::fem
 
     dealii::TimerOutput &timer() const { return timer_output; }
 
+    /// The Crank–Nicolson midpoint velocity (uⁿ + uⁿ⁺¹)/2 and its divergence at the points of a
+    /// Gauss rule on every owned cell (index active_cell_index × n_points + q), for one state of
+    /// the flow (NavierStokes::state_id): the NCLS and the VOF transport of a step share it.
+    struct MidpointTable
+    {
+      std::uint64_t                       flow_state = std::numeric_limits<std::uint64_t>::max();
+      unsigned int                        n_points   = 0;
+      std::vector<dealii::Tensor<1, dim>> u;
+      std::vector<double>                 div;
+    };
+    MidpointTable &midpoint_table() const { return midpoint; }
+
   private:
+    mutable MidpointTable midpoint;
     MPI_Comm                                           comm;
     dealii::parallel::distributed::Triangulation<dim> &tria;
     LevelSetParameters                                 prm;
@@ -353,6 +368,12 @@ namespace twinflow::fem
     VofTransport<dim>                     &vof;
     dealii::TrilinosWrappers::SparseMatrix jacobian;
     CellScatter<dim>                       jacobian_scatter; ///< fast insertion into the Jacobian
+    /// AMG of the Jacobian, kept for amg_lifetime steps on one mesh: the Jacobian κK + δ_ε M is
+    /// the mesh's stiffness plus a mass in the band around Γ, which moves by ≤ a cell per step.
+    dealii::TrilinosWrappers::PreconditionAMG amg;
+    static constexpr unsigned int             amg_lifetime = 10;
+    unsigned int                              amg_age      = amg_lifetime; ///< steps since its set-up
+    double                                    domain       = 0;            ///< ∫1 of the mesh (0: to compute)
     dealii::TrilinosWrappers::MPI::Vector  correction;
     unsigned int                           newton = 0;
     double                                 max_correction = 0;

@@ -59,6 +59,10 @@ namespace twinflow::fem
     virtual void scale_fluid_fraction(const MomentumCell<dim> & /*cell*/, std::vector<double> & /*fraction*/) const {}
 
     /// Add the term's contribution (implicit in u^{n+1}) to the cell matrix and right-hand side.
+    /// With the Laplacian stress μ∇u (MomentumCell::symmetric_stress false) the momentum
+    /// matrix holds no entries between two different velocity components: a term may couple
+    /// components only under the symmetric stress (the sum into the matrix refuses a nonzero
+    /// outside its sparsity).
     virtual void assemble(const MomentumCell<dim> &cell,
                           dealii::FullMatrix<double> &matrix,
                           dealii::Vector<double>     &rhs) const = 0;

@@ -35,6 +35,7 @@
 #include <deal.II/lac/trilinos_vector.h>
 #include <deal.II/numerics/data_out.h>
 
+#include <cstdint>
 #include <map>
 #include <memory>
 #include <string>
@@ -137,6 +138,9 @@ namespace twinflow::fem
     void restore_step(const StepState &state);
 
     double       time() const { return current_time; }
+    /// Changes whenever the velocity vectors do (a step, a restore, a new mesh or a restart):
+    /// other physics key per-step caches of velocity values on it.
+    std::uint64_t state_id() const { return state_counter; }
     const StepStatistics &statistics() const { return stats; }
     unsigned int n_steps() const { return step_number; }
 
@@ -197,6 +201,9 @@ namespace twinflow::fem
     void make_mesh_constraints(const dealii::DoFHandler<dim> &dofs, const dealii::IndexSet &relevant,
                                dealii::AffineConstraints<double> &c) const;
     void assemble_pressure_laplacian();
+    /// G_ij = (∂_{c_i} q_j, v_i), rows condensed by the velocity constraints: the right-hand
+    /// side (∇φ, v) of the variable-density correction is G φ (the mesh fixes G).
+    void assemble_pressure_gradient();
     /// AMG of the current pressure_laplace (mesh Laplacian, or the ρ⁻¹-weighted one per step).
     void initialize_pressure_amg();
     void assemble_velocity_system(double dt, const BdfCoefficients &c);
@@ -233,6 +240,7 @@ namespace twinflow::fem
     bool pressure_floating = false;
 
     dealii::TrilinosWrappers::SparseMatrix velocity_matrix, pressure_laplace, velocity_mass;
+    dealii::TrilinosWrappers::SparseMatrix pressure_gradient; ///< see assemble_pressure_gradient()
     dealii::TrilinosWrappers::PreconditionAMG velocity_amg, pressure_amg;
     dealii::TrilinosWrappers::PreconditionILU velocity_ilu;
     dealii::TrilinosWrappers::PreconditionSSOR   velocity_ssor;
@@ -246,6 +254,7 @@ namespace twinflow::fem
     double       current_time = 0, dt_last = 0, dt_before_last = 0;
     unsigned int step_number = 0;
     bool         have_history = false; ///< u^{n-1} is a real previous step
+    std::uint64_t state_counter = 0;   ///< see state_id()
 
     /// DoFs on each boundary whose force is asked for (found once per mesh, not per step).
     mutable std::map<dealii::types::boundary_id, dealii::IndexSet> force_dofs;
