@@ -154,27 +154,25 @@ namespace twinflow::fem
 
     // Only the symmetric stress 2με(u) couples two velocity components (momentum_term.h):
     // with μ∇u the momentum matrix has the same-component pattern, 1/dim of the entries of
-    // the full one (fewer products in every Krylov iteration, less to assemble and zero).
-    Table<2, DoFTools::Coupling> same_component(dim, dim), momentum_coupling(dim, dim);
-    for (unsigned int c = 0; c < dim; ++c)
-      for (unsigned int d = 0; d < dim; ++d)
-      {
-        same_component[c][d]    = c == d ? DoFTools::always : DoFTools::none;
-        momentum_coupling[c][d] = c == d || symmetric_stress() ? DoFTools::always : DoFTools::none;
-      }
-    {
+    // the full one (fewer products in every Krylov iteration, less to assemble and zero). The
+    // L²(ρ) mass of the variable-density correction never couples them.
+    const auto velocity_pattern = [&](const bool couple_components, TrilinosWrappers::SparseMatrix &matrix) {
+      Table<2, DoFTools::Coupling> coupling(dim, dim);
+      for (unsigned int c = 0; c < dim; ++c)
+        for (unsigned int d = 0; d < dim; ++d)
+          coupling[c][d] = c == d || couple_components ? DoFTools::always : DoFTools::none;
       DynamicSparsityPattern dsp(velocity_relevant);
-      DoFTools::make_sparsity_pattern(velocity_dofs, momentum_coupling, dsp, velocity_constraints, false);
+      DoFTools::make_sparsity_pattern(velocity_dofs, coupling, dsp, velocity_constraints, false);
       SparsityTools::distribute_sparsity_pattern(dsp, velocity_owned, comm, velocity_relevant);
-      velocity_matrix.reinit(velocity_owned, velocity_owned, dsp, comm);
-    }
+      matrix.reinit(velocity_owned, velocity_owned, dsp, comm);
+    };
+    velocity_pattern(symmetric_stress(), velocity_matrix);
     if (prm.variable_projection)
     {
-      // the L²(ρ) mass couples no two components
-      DynamicSparsityPattern dsp(velocity_relevant);
-      DoFTools::make_sparsity_pattern(velocity_dofs, same_component, dsp, velocity_constraints, false);
-      SparsityTools::distribute_sparsity_pattern(dsp, velocity_owned, comm, velocity_relevant);
-      velocity_mass.reinit(velocity_owned, velocity_owned, dsp, comm);
+      if (symmetric_stress())
+        velocity_pattern(false, velocity_mass);
+      else
+        velocity_mass.reinit(velocity_matrix); // the same pattern (its values are assembled per step)
     }
     if (velocity_corrected())
       assemble_pressure_gradient();
