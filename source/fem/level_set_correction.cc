@@ -237,7 +237,7 @@ namespace twinflow::fem
     FEValues<dim>      fev(space.mapping(), fe, quad, update_values | update_gradients | update_JxW_values);
     const unsigned int n  = fe.n_dofs_per_cell();
     const unsigned int nq = quad.size();
-    FullMatrix<double> A(n, n);
+    FullMatrix<double> A(n, n), stiffness(n, n);
     Vector<double>     b(n);
     std::vector<types::global_dof_index> indices(n);
     std::vector<double>         phi_q(nq), theta_q(nq), u_q(nq);
@@ -286,7 +286,8 @@ namespace twinflow::fem
         break;
       jacobian = 0;
       residual = 0;
-      double mismatch = 0;
+      double mismatch        = 0;
+      bool   stiffness_valid = false;
       for (const auto &cell : space.dof_handler().active_cell_iterators())
       {
         if (!cell->is_locally_owned())
@@ -304,7 +305,38 @@ namespace twinflow::fem
         const double kappa = prm.correction_diffusion * LevelSetSpace<dim>::cell_size(cell);
         A = 0;
         b = 0;
-        for (unsigned int q = 0; q < nq; ++q)
+        // Off the band |φ + u| < ε (δ_ε = 0 at every point) the Jacobian is κK: the stiffness
+        // K_ij = ∫∇s_i·∇s_j, which a translated cell shares with the previous one (deal.II's
+        // cell similarity), and the diffusion part of the residual is κ K u_K.
+        bool in_band = false;
+        for (unsigned int q = 0; q < nq && !in_band; ++q)
+          in_band = std::abs(phi_q[q] + u_q[q]) < eps;
+        if (!in_band)
+        {
+          if (!stiffness_valid || fev.get_cell_similarity() != CellSimilarity::translation)
+          {
+            stiffness = 0;
+            for (unsigned int q = 0; q < nq; ++q)
+              for (unsigned int i = 0; i < n; ++i)
+                for (unsigned int j = 0; j < n; ++j)
+                  stiffness(i, j) += fev.shape_grad(i, q) * fev.shape_grad(j, q) * fev.JxW(q);
+            stiffness_valid = true;
+          }
+          for (unsigned int q = 0; q < nq; ++q)
+          {
+            const double r = smoothed_heaviside(phi_q[q] + u_q[q], eps) - theta_q[q];
+            mismatch += r * fev.JxW(q);
+            for (unsigned int i = 0; i < n; ++i)
+              b(i) -= r * fev.shape_value(i, q) * fev.JxW(q);
+          }
+          A.add(kappa, stiffness);
+          for (unsigned int i = 0; i < n; ++i)
+            for (unsigned int j = 0; j < n; ++j)
+              b(i) -= A(i, j) * local[j];
+        }
+        else
+          stiffness_valid = false; // the next cell off the band computes K again
+        for (unsigned int q = 0; q < nq && in_band; ++q)
         {
           const double JxW = fev.JxW(q);
           const double r   = smoothed_heaviside(phi_q[q] + u_q[q], eps) - theta_q[q];

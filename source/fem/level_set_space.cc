@@ -327,6 +327,7 @@ namespace twinflow::fem
     space.reinit_ghosted(before_previous);
     matrix.reinit(space.owned(), space.owned(), space.sparsity(), space.communicator());
     scatter.clear();
+    ilu.clear();
   }
 
   template <int dim>
@@ -486,12 +487,16 @@ namespace twinflow::fem
   {
     FreeSurfaceMeasures m;
     const auto &phi = ncls.value();
-    m.water_volume  = space.water_volume(phi);
-    // Energies on the velocity quadrature.
+    // Energies on the velocity quadrature; the water volume in the same loop when it is the
+    // level set's own rule (Q2/Q1: both Gauss 3), else by LevelSetSpace::water_volume.
     const QGauss<dim>  quad(flow.velocity_dof_handler().get_fe().degree + 1);
+    const bool         volume_here = quad.size() == space.nonlinear_quadrature().size() && space.reader().reads(phi);
+    if (!volume_here)
+      m.water_volume = space.water_volume(phi);
     FEValues<dim>      fev(flow.get_mapping(), flow.velocity_dof_handler().get_fe(), quad,
                            update_values | update_JxW_values | update_quadrature_points);
-    FEValues<dim>      fel(space.mapping(), space.fe(), quad, update_values);
+    FEValues<dim>      fel(space.mapping(), space.fe(), quad, update_values | update_JxW_values);
+    double             volume = 0;
     std::vector<Tensor<1, dim>> u(quad.size());
     std::vector<double>         phi_q(quad.size()), local_u, local_phi;
     double front = -std::numeric_limits<double>::max(), foremost = front;
@@ -504,11 +509,19 @@ namespace twinflow::fem
         fel.reinit(lcell);
         flow.velocity_reader().gather(cell, flow.velocity(), local_u);
         fev[FEValuesExtractors::Vector(0)].get_function_values_from_local_dof_values(local_u, u);
-        field_values(space, lcell, phi, fel, local_phi, phi_q);
+        if (space.reader().reads(phi))
+          space.reader().gather(lcell, phi, local_phi);
+        else
+        {
+          local_phi.resize(space.fe().n_dofs_per_cell());
+          lcell->get_dof_values(phi, local_phi.begin(), local_phi.end());
+        }
+        fel[FEValuesExtractors::Scalar(0)].get_function_values_from_local_dof_values(local_phi, phi_q);
         const double eps = space.epsilon(cell);
         for (unsigned int q = 0; q < quad.size(); ++q)
         {
           const double H   = smoothed_heaviside(phi_q[q], eps);
+          volume += (1 - H) * fel.JxW(q);
           const double rho = fluids.rho_water + (fluids.rho_air - fluids.rho_water) * H;
           const double w   = fluids.rho_water * (1 - H);
           const double ek  = 0.5 * u[q].norm_square() * fev.JxW(q);
@@ -520,12 +533,14 @@ namespace twinflow::fem
           if (phi_q[q] < 0)
             m.max_water_speed = std::max(m.max_water_speed, u[q].norm());
         }
-        // Fronts: along every cell edge, the largest x with φ < 0 (linear between vertices).
+        // Fronts: along every cell edge, the largest x with φ < 0 (linear between vertices;
+        // FE_Q numbers the vertex DoFs first, in the cell's vertex order).
         for (unsigned int l = 0; l < GeometryInfo<dim>::lines_per_cell; ++l)
         {
-          const auto   line = lcell->line(l);
-          const double a = phi[line->vertex_dof_index(0, 0)], b = phi[line->vertex_dof_index(1, 0)];
-          const Point<dim> pa = line->vertex(0), pb = line->vertex(1);
+          const unsigned int va = GeometryInfo<dim>::line_to_cell_vertices(l, 0),
+                             vb = GeometryInfo<dim>::line_to_cell_vertices(l, 1);
+          const double       a = local_phi[va], b = local_phi[vb];
+          const Point<dim>   pa = lcell->vertex(va), pb = lcell->vertex(vb);
           double x = -std::numeric_limits<double>::max();
           if (a < 0 && b < 0)
             x = std::max(pa[0], pb[0]);
@@ -548,11 +563,15 @@ namespace twinflow::fem
     m.x_front         = Utilities::MPI::max(front, comm);
     m.x_foremost      = Utilities::MPI::max(foremost, comm);
     m.max_water_speed = Utilities::MPI::max(m.max_water_speed, comm);
+    if (volume_here)
+      m.water_volume = Utilities::MPI::sum(volume, comm);
+    // over the local values, ghosts included (each is some rank's owned value)
     double lo = std::numeric_limits<double>::max(), hi = -lo;
-    for (const auto i : phi.locally_owned_elements())
+    const Epetra_MultiVector &local_values = phi.trilinos_vector();
+    for (int k = 0; k < local_values.MyLength(); ++k)
     {
-      lo = std::min(lo, double(phi[i]));
-      hi = std::max(hi, double(phi[i]));
+      lo = std::min(lo, local_values[0][k]);
+      hi = std::max(hi, local_values[0][k]);
     }
     m.phi_min = Utilities::MPI::min(lo, comm);
     m.phi_max = Utilities::MPI::max(hi, comm);

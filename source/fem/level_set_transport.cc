@@ -210,8 +210,7 @@ namespace twinflow::fem
     if (!scatter.ready())
       scatter.reinit(space.dof_handler(), space.constraints(), matrix, rhs);
 
-    TrilinosWrappers::PreconditionILU ilu;
-    ilu.initialize(matrix);
+    ilu.compute(matrix); // the symbolic factorisation is kept while the mesh is
     space.reinit_owned(result);
     result = current;
     space.constraints().set_zero(result);

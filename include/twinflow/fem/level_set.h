@@ -18,6 +18,7 @@
  */
 #include <twinflow/fem/cell_dof_reader.h>
 #include <twinflow/fem/cell_scatter.h>
+#include <twinflow/fem/linear_solve.h>
 #include <twinflow/fem/field_physics.h>
 #include <twinflow/fem/material_model.h>
 #include <twinflow/fem/mesh_adaptation.h>
@@ -256,6 +257,7 @@ namespace twinflow::fem
     std::array<double, 3>                 integral_before_transfer{};
     dealii::TrilinosWrappers::SparseMatrix matrix;
     CellScatter<dim>                       scatter; ///< fast insertion into matrix (set up after its first assembly)
+    ReusableIlu                            ilu;     ///< of matrix, its fill graph kept per mesh
   };
 
   /// Eq. 7: the non-conservative level set φ carried by the flow (SUPG, Crank–Nicolson).

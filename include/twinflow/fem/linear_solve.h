@@ -8,6 +8,8 @@
  */
 #include <deal.II/base/exceptions.h>
 #include <deal.II/lac/solver_control.h>
+#include <deal.II/lac/trilinos_precondition.h>
+#include <deal.II/lac/trilinos_sparse_matrix.h>
 
 #include <map>
 #include <sstream>
@@ -48,4 +50,23 @@ namespace twinflow::fem
       AssertThrow(false, dealii::ExcMessage(msg.str()));
     }
   }
+
+  /**
+   * ILU(0) of a Trilinos matrix whose sparsity stays while its values change every step (the
+   * level-set transports): Ifpack's symbolic factorisation (the fill graph) is built on the
+   * first compute() for a matrix and kept; later calls redo only the numeric factorisation.
+   * The same factors as dealii::TrilinosWrappers::PreconditionILU with its defaults (no fill,
+   * no overlap, no thresholds). clear() after the matrix is re-created (a new mesh).
+   */
+  class ReusableIlu : public dealii::TrilinosWrappers::PreconditionBase
+  {
+  public:
+    /// Factor the current values of @p matrix.
+    void compute(const dealii::TrilinosWrappers::SparseMatrix &matrix);
+    /// Forget the symbolic factorisation (the matrix object or its sparsity changed).
+    void clear();
+
+  private:
+    const Epetra_CrsMatrix *factored = nullptr; ///< the matrix the symbolic part belongs to
+  };
 } // namespace twinflow::fem
