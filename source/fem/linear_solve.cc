@@ -40,4 +40,48 @@ namespace twinflow::fem
     preconditioner.reset();
     factored = nullptr;
   }
+
+  void InverseDiagonal::compute(const dealii::TrilinosWrappers::SparseMatrix &matrix)
+  {
+    const Epetra_CrsMatrix &m = matrix.trilinos_matrix();
+    AssertThrow(m.Filled(), dealii::ExcMessage("InverseDiagonal: the matrix is not compressed"));
+    if (indexed != &m)
+    {
+      place.assign(m.NumMyRows(), -1);
+      for (int r = 0; r < m.NumMyRows(); ++r)
+      {
+        int     n       = 0;
+        double *values  = nullptr;
+        int    *columns = nullptr;
+        m.ExtractMyRowView(r, n, values, columns);
+        const int diagonal = m.ColMap().LID(m.RowMap().GID64(r));
+        for (int k = 0; k < n; ++k)
+          if (columns[k] == diagonal)
+            place[r] = k;
+      }
+      inverse.reinit(matrix.locally_owned_range_indices(), matrix.get_mpi_communicator());
+      AssertThrow(inverse.trilinos_vector().MyLength() == m.NumMyRows(),
+                  dealii::ExcMessage("InverseDiagonal: the vector's rows differ from the matrix's"));
+      indexed = &m;
+    }
+    double *out = inverse.trilinos_vector()[0];
+    for (int r = 0; r < m.NumMyRows(); ++r)
+    {
+      int     n       = 0;
+      double *values  = nullptr;
+      int    *columns = nullptr;
+      m.ExtractMyRowView(r, n, values, columns);
+      const double d = place[r] >= 0 ? values[place[r]] : 0.0;
+      AssertThrow(d != 0.0, dealii::ExcMessage("InverseDiagonal: row " + std::to_string(r) +
+                                               " has no or a zero diagonal entry; Jacobi needs one"));
+      out[r] = 1.0 / d;
+    }
+  }
+
+  void InverseDiagonal::vmult(dealii::TrilinosWrappers::MPI::Vector       &dst,
+                              const dealii::TrilinosWrappers::MPI::Vector &src) const
+  {
+    // Y = 1·D⁻¹.*X + 0·Y, as Ifpack's point Jacobi applies it
+    dst.trilinos_vector().Multiply(1.0, inverse.trilinos_vector(), src.trilinos_vector(), 0.0);
+  }
 } // namespace twinflow::fem

@@ -185,6 +185,8 @@ namespace twinflow::fem
     if (!(prm.variable_projection && !material.is_constant())) // else rebuilt every step
       assemble_pressure_laplacian();
     rebuild_velocity_preconditioner = true;
+    velocity_jacobi.clear();
+    mass_jacobi.clear();
 
     ++state_counter;
     velocity_rhs.reinit(velocity_owned, comm);
@@ -632,7 +634,7 @@ namespace twinflow::fem
       else if (kind == "ssor")
         velocity_ssor.initialize(velocity_matrix);
       else if (kind == "jacobi")
-        velocity_jacobi.initialize(velocity_matrix);
+        velocity_jacobi.compute(velocity_matrix);
       else
       {
         TrilinosWrappers::PreconditionAMG::AdditionalData amg;

@@ -115,11 +115,10 @@ namespace twinflow::fem
     pressure_gradient.vmult(velocity_rhs, phi);
     // The last step's correction is the guess (δ follows the increment ∇φ, smooth in time).
     TrilinosWrappers::MPI::Vector &delta = last_correction; // sized by setup_dofs()
-    TrilinosWrappers::PreconditionJacobi jacobi;
-    jacobi.initialize(velocity_mass);
+    mass_jacobi.compute(velocity_mass);
     SolverControl control(2000, std::max(prm.linear_tolerance * velocity_rhs.l2_norm(), 1e-300));
     SolverCG<TrilinosWrappers::MPI::Vector> cg(control);
-    solve_named("Navier-Stokes velocity correction", control, [&] { cg.solve(velocity_mass, delta, velocity_rhs, jacobi); });
+    solve_named("Navier-Stokes velocity correction", control, [&] { cg.solve(velocity_mass, delta, velocity_rhs, mass_jacobi); });
     if (!momentum_terms.empty())
       u_momentum = u_n;
     TrilinosWrappers::MPI::Vector x(velocity_owned, comm);

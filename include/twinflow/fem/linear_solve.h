@@ -10,6 +10,9 @@
 #include <deal.II/lac/solver_control.h>
 #include <deal.II/lac/trilinos_precondition.h>
 #include <deal.II/lac/trilinos_sparse_matrix.h>
+#include <deal.II/lac/trilinos_vector.h>
+
+#include <vector>
 
 #include <map>
 #include <sstream>
@@ -68,5 +71,29 @@ namespace twinflow::fem
 
   private:
     const Epetra_CrsMatrix *factored = nullptr; ///< the matrix the symbolic part belongs to
+  };
+
+  /**
+   * Point Jacobi (ω = 1) for a Trilinos matrix whose sparsity stays while its values change
+   * (the momentum matrix, the correction's mass): the place of each local row's diagonal
+   * entry is found once per matrix, and each compute() reads the values there. It applies the
+   * same D⁻¹ as dealii::TrilinosWrappers::PreconditionJacobi with its defaults, without
+   * Epetra's diagonal extraction through map look-ups and, on several ranks, without the local
+   * copy of the whole matrix that Ifpack's additive Schwarz wrapper makes on every set-up.
+   */
+  class InverseDiagonal
+  {
+  public:
+    /// D⁻¹ of the current values of @p matrix.
+    void compute(const dealii::TrilinosWrappers::SparseMatrix &matrix);
+    /// Forget the diagonal's places (the matrix object or its sparsity changed).
+    void clear() { indexed = nullptr; }
+    /// dst = D⁻¹ src.
+    void vmult(dealii::TrilinosWrappers::MPI::Vector &dst, const dealii::TrilinosWrappers::MPI::Vector &src) const;
+
+  private:
+    const Epetra_CrsMatrix               *indexed = nullptr;
+    std::vector<int>                      place; ///< of the diagonal in each local row's storage
+    dealii::TrilinosWrappers::MPI::Vector inverse;
   };
 } // namespace twinflow::fem

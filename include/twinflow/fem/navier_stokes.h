@@ -17,6 +17,7 @@
 #include <twinflow/fem/cell_scatter.h>
 #include <twinflow/fem/field_physics.h>
 #include <twinflow/fem/material_model.h>
+#include <twinflow/fem/linear_solve.h>
 #include <twinflow/fem/momentum_term.h>
 
 #include <deal.II/base/conditional_ostream.h>
@@ -244,7 +245,7 @@ namespace twinflow::fem
     dealii::TrilinosWrappers::PreconditionAMG velocity_amg, pressure_amg;
     dealii::TrilinosWrappers::PreconditionILU velocity_ilu;
     dealii::TrilinosWrappers::PreconditionSSOR   velocity_ssor;
-    dealii::TrilinosWrappers::PreconditionJacobi velocity_jacobi;
+    InverseDiagonal                           velocity_jacobi, mass_jacobi;
     dealii::TrilinosWrappers::MPI::Vector     velocity_rhs, pressure_rhs;
 
     /// Ghosted state: u^n, u^{n-1}, p^n, φ^n, φ^{n-1}.
