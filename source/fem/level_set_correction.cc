@@ -242,7 +242,7 @@ namespace twinflow::fem
     std::vector<types::global_dof_index> indices(n);
     std::vector<double>         phi_q(nq), theta_q(nq), u_q(nq);
     std::vector<Tensor<1, dim>> grad_u(nq);
-    std::vector<double>         local;
+    std::vector<double>         local, u_local;
     const FEValuesExtractors::Scalar scalar(0);
     const MPI_Comm comm = space.communicator();
     if (domain == 0) // once per mesh
@@ -298,9 +298,8 @@ namespace twinflow::fem
           space.reader().gather(cell, *v, local);
           fev[scalar].get_function_values_from_local_dof_values(local, *out);
         }
-        space.reader().gather(cell, correction, local);
-        fev[scalar].get_function_values_from_local_dof_values(local, u_q);
-        fev[scalar].get_function_gradients_from_local_dof_values(local, grad_u);
+        space.reader().gather(cell, correction, u_local);
+        fev[scalar].get_function_values_from_local_dof_values(u_local, u_q);
         const double eps   = space.epsilon(cell);
         const double kappa = prm.correction_diffusion * LevelSetSpace<dim>::cell_size(cell);
         A = 0;
@@ -332,11 +331,14 @@ namespace twinflow::fem
           A.add(kappa, stiffness);
           for (unsigned int i = 0; i < n; ++i)
             for (unsigned int j = 0; j < n; ++j)
-              b(i) -= A(i, j) * local[j];
+              b(i) -= A(i, j) * u_local[j];
         }
         else
+        {
           stiffness_valid = false; // the next cell off the band computes K again
-        for (unsigned int q = 0; q < nq && in_band; ++q)
+          fev[scalar].get_function_gradients_from_local_dof_values(u_local, grad_u);
+        }
+        for (unsigned int q = 0; in_band && q < nq; ++q)
         {
           const double JxW = fev.JxW(q);
           const double r   = smoothed_heaviside(phi_q[q] + u_q[q], eps) - theta_q[q];

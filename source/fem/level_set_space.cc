@@ -198,20 +198,22 @@ namespace twinflow::fem
 
   namespace
   {
-    /// Values of a field of the space at the points of @p fev on @p cell: through the cell
-    /// reader for a ghosted vector of the space, through Epetra's look-up otherwise.
+    /// The cell's DoF values of a field of the space in @p local and its values at the points
+    /// of @p fev in @p out: through the cell reader for a ghosted vector of the space, through
+    /// Epetra's look-up otherwise.
     template <int dim>
     void field_values(const LevelSetSpace<dim> &space, const typename DoFHandler<dim>::active_cell_iterator &cell,
                       const TrilinosWrappers::MPI::Vector &v, const FEValues<dim> &fev, std::vector<double> &local,
                       std::vector<double> &out)
     {
       if (space.reader().reads(v))
-      {
         space.reader().gather(cell, v, local);
-        fev[FEValuesExtractors::Scalar(0)].get_function_values_from_local_dof_values(local, out);
-      }
       else
-        fev.get_function_values(v, out);
+      {
+        local.resize(space.fe().n_dofs_per_cell());
+        cell->get_dof_values(v, local.begin(), local.end());
+      }
+      fev[FEValuesExtractors::Scalar(0)].get_function_values_from_local_dof_values(local, out);
     }
   } // namespace
 
@@ -509,14 +511,7 @@ namespace twinflow::fem
         fel.reinit(lcell);
         flow.velocity_reader().gather(cell, flow.velocity(), local_u);
         fev[FEValuesExtractors::Vector(0)].get_function_values_from_local_dof_values(local_u, u);
-        if (space.reader().reads(phi))
-          space.reader().gather(lcell, phi, local_phi);
-        else
-        {
-          local_phi.resize(space.fe().n_dofs_per_cell());
-          lcell->get_dof_values(phi, local_phi.begin(), local_phi.end());
-        }
-        fel[FEValuesExtractors::Scalar(0)].get_function_values_from_local_dof_values(local_phi, phi_q);
+        field_values(space, lcell, phi, fel, local_phi, phi_q);
         const double eps = space.epsilon(cell);
         for (unsigned int q = 0; q < quad.size(); ++q)
         {
