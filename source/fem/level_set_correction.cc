@@ -373,7 +373,7 @@ namespace twinflow::fem
         data.elliptic              = true;
         data.higher_order_elements = fe.degree > 1;
         data.smoother_sweeps       = 2;
-        amg.initialize(jacobian, data);
+        initialize_amg(amg, jacobian, data);
         amg_age = 1;
       }
       delta = 0;

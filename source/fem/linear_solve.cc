@@ -3,7 +3,10 @@
 
 #include <Ifpack.h>
 #include <Ifpack_Preconditioner.h>
+#include <Epetra_MultiVector.h>
 #include <Teuchos_ParameterList.hpp>
+
+#include <memory>
 
 namespace twinflow::fem
 {
@@ -11,6 +14,18 @@ namespace twinflow::fem
   {
     static std::map<std::string, LinearSolveCounts> counts;
     return counts;
+  }
+
+  void initialize_amg(dealii::TrilinosWrappers::PreconditionAMG                       &amg,
+                      const dealii::TrilinosWrappers::SparseMatrix                    &matrix,
+                      const dealii::TrilinosWrappers::PreconditionAMG::AdditionalData &data)
+  {
+    // ML copies the constant modes during the set-up (as in PreconditionAMG::initialize)
+    std::unique_ptr<Epetra_MultiVector> modes;
+    Teuchos::ParameterList              list;
+    data.set_parameters(list, modes, matrix);
+    list.set("ML validate parameter list", false);
+    amg.initialize(matrix, list);
   }
 
   void ReusableIlu::compute(const dealii::TrilinosWrappers::SparseMatrix &matrix)

@@ -280,7 +280,7 @@ namespace twinflow::fem
     amg.higher_order_elements = fe_pressure.degree > 1;
     amg.smoother_sweeps       = 2;
     amg.aggregation_threshold = 0.02;
-    pressure_amg.initialize(pressure_laplace, amg);
+    initialize_amg(pressure_amg, pressure_laplace, amg);
   }
 
   template <int dim>
@@ -464,10 +464,11 @@ namespace twinflow::fem
         fev[vel].get_function_divergences_from_local_dof_values(local_u_old, div_unm1);
       }
       for (auto [v, out] : {std::pair{&p_n, &p_val}, {&phi_n, &phi_val}, {&phi_nm1, &phim_val}})
-      {
-        pressure_cells.gather(pcell, *v, local_p);
-        fep[scalar].get_function_values_from_local_dof_values(local_p, *out);
-      }
+        if (v == &p_n || pressure_w1 != 0) // p^# = p^n when the velocity is corrected
+        {
+          pressure_cells.gather(pcell, *v, local_p);
+          fep[scalar].get_function_values_from_local_dof_values(local_p, *out);
+        }
       material.evaluate(cell, fev.get_quadrature_points(), t_new, mat);
       if (!constant) // ρ^{n+1} at these points, for the pressure projection of this step
         std::copy(mat.density.begin(), mat.density.end(), step_density.begin() + cell->active_cell_index() * nq);
@@ -550,7 +551,7 @@ namespace twinflow::fem
           if (acceleration) rhs[d] += rho * g_val[q](d);
           if (force_density) rhs[d] += w * f_val[q](d);
         }
-        const double p_sharp = p_val[q] + pressure_w1 * phi_val[q] + pressure_w2 * phim_val[q];
+        const double p_sharp = pressure_w1 != 0 ? p_val[q] + pressure_w1 * phi_val[q] + pressure_w2 * phim_val[q] : p_val[q];
         // Streamline diffusion: c τ ρ (u*·∇ũ)(u*·∇v), τ = h/(2|u*|): the steady SUPG parameter
         // (with a 2/dt term τ would vanish as dt → 0 and small CFL steps lose the stabilisation).
         const double speed = u_star[q].norm();
