@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Checkpoint/restart of an SPH run continues it bit for bit.
 
-usage: check_restart.py TWINFLOW SCENE.prm WORKDIR T_CHECKPOINT
+usage: check_restart.py TWINFLOW SCENE.prm WORKDIR T_CHECKPOINT ['SECTION/Entry=value' ...]
 
 Run A: SCENE from t = 0 to its end time, writing a checkpoint every T_CHECKPOINT (the last one
 before the end remains in checkpoint.bin). Run B: a copy of A's output directory, restarted
@@ -9,6 +9,9 @@ from that checkpoint into itself. The engine's whole state is x, u and p (the pr
 start), so B must reproduce A exactly: every monitor row (written with 12 digits), the ParaView
 series and the summary's monitor values. Also checks that a restart with another particle
 spacing is refused with an input error naming the entry.
+
+The optional entries are set on every run (e.g. 'SPH/Density error correction=position', whose
+density-error pressure must also be restored or rebuilt exactly).
 
 Snapshots (Scene/Snapshot times, two before and two after the checkpoint): B does not rewrite
 the ones written before the restart time (a marker put into one survives) and writes the later
@@ -42,9 +45,15 @@ def fail(message, log=""):
     return 1
 
 
+EXTRA = []  # --set entries of every run (command line)
+
+
 def run(twinflow, prm, out):
     # the SPH checkpoint is under test: the scene's FEM half (Methods = fem, sph) is not run
-    r = subprocess.run([twinflow, prm, "-o", out, "--set", "Scene/Methods=sph"], capture_output=True, text=True)
+    cmd = [twinflow, prm, "-o", out, "--set", "Scene/Methods=sph"]
+    for entry in EXTRA:
+        cmd += ["--set", entry]
+    r = subprocess.run(cmd, capture_output=True, text=True)
     return r.returncode, r.stdout + r.stderr
 
 
@@ -74,6 +83,7 @@ def check_snapshots(a_dir, b_dir, t0):
 
 def main():
     twinflow, scene, work, interval = sys.argv[1], sys.argv[2], sys.argv[3], float(sys.argv[4])
+    EXTRA.extend(sys.argv[5:])
     shutil.rmtree(work, ignore_errors=True)
     os.makedirs(work)
     a_dir, b_dir = os.path.join(work, "a"), os.path.join(work, "b")
