@@ -551,7 +551,7 @@ namespace twinflow::fem
           if (acceleration) rhs[d] += rho * g_val[q](d);
           if (force_density) rhs[d] += w * f_val[q](d);
         }
-        const double p_sharp = pressure_w1 != 0 ? p_val[q] + pressure_w1 * phi_val[q] + pressure_w2 * phim_val[q] : p_val[q];
+        const double p_sharp = p_val[q] + pressure_w1 * phi_val[q] + pressure_w2 * phim_val[q]; // φ values 0 if unread
         // Streamline diffusion: c τ ρ (u*·∇ũ)(u*·∇v), τ = h/(2|u*|): the steady SUPG parameter
         // (with a 2/dt term τ would vanish as dt → 0 and small CFL steps lose the stabilisation).
         const double speed = u_star[q].norm();
@@ -647,7 +647,7 @@ namespace twinflow::fem
         std::vector<std::vector<bool>> modes;
         DoFTools::extract_constant_modes(velocity_dofs, ComponentMask(), modes);
         amg.constant_modes = modes;
-        velocity_amg.initialize(velocity_matrix, amg);
+        initialize_amg(velocity_amg, velocity_matrix, amg);
       }
     }
     TrilinosWrappers::MPI::Vector x(velocity_owned, comm), older(velocity_owned, comm);

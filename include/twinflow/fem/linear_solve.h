@@ -13,9 +13,9 @@
 #include <deal.II/lac/trilinos_vector.h>
 
 #include <map>
-#include <vector>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace twinflow::fem
 {
@@ -58,6 +58,7 @@ namespace twinflow::fem
    * does, but with ML's validation of the parameter list turned off: ML checks every entry of
    * the list against its table of valid names at each set-up, which was 16 % of the set-up time
    * of the pressure AMG that the two-phase flow rebuilds every step. The hierarchy is the same.
+   * Every AMG of the FEM solvers is set up through here.
    */
   void initialize_amg(dealii::TrilinosWrappers::PreconditionAMG                       &amg,
                       const dealii::TrilinosWrappers::SparseMatrix                    &matrix,
