@@ -6,6 +6,14 @@
 
 namespace twinflow::sph
 {
+  namespace
+  {
+    const char *density_correction_name(const DensityCorrection c)
+    {
+      return c == DensityCorrection::position ? "position" : c == DensityCorrection::velocity ? "velocity" : "auto";
+    }
+  } // namespace
+
   bool StepReport::converged() const
   {
     return pressure.converged && velocity[0].converged && velocity[1].converged && velocity[2].converged;
@@ -25,11 +33,14 @@ namespace twinflow::sph
                       "Discrete gradient/Laplacian: consistent (Eq. 22-26) or standard (Eq. 19-20).");
     prm.declare_entry("Alpha", to_string(d.alpha), Patterns::Double(0, 1),
                       "Weight of the density-invariance source in the pressure equation (Eq. 55/57).");
-    prm.declare_entry("Density error correction", d.position_density_correction ? "position" : "velocity",
-                      Patterns::Selection("position|velocity"),
+    prm.declare_entry("Density error correction", density_correction_name(d.density_correction),
+                      Patterns::Selection("auto|position|velocity"),
                       "Where the density-invariance source (weight Alpha) acts: position (the Alpha-blended pressure "
                       "moves the particles, the velocity is projected with Alpha = 0: the correction adds no kinetic "
-                      "energy; one more pressure solve per step) or velocity (Eq. 55 as written).");
+                      "energy; one more pressure solve per step), velocity (Eq. 55 as written), or auto: position "
+                      "for the consistent operators where the scene has a free surface, velocity otherwise (in a "
+                      "confined flow the velocity form keeps particles out of small bodies; the standard operators' "
+                      "still water is worse with the position form).");
     prm.declare_entry("Wall pressure condition", d.neumann_walls ? "neumann" : "bce", Patterns::Selection("bce|neumann"),
                       "BCE markers' pressure rows: force balance (Eq. 64-65) or zero normal gradient (Eq. 66-67).");
     prm.declare_entry("Free-surface density ratio", to_string(d.free_surface_ratio), Patterns::Double(0, 1),
@@ -107,7 +118,10 @@ namespace twinflow::sph
     h_over_dx = prm.get_double("Smoothing length ratio");
     consistent    = prm.get("Operators") == "consistent";
     alpha         = prm.get_double("Alpha");
-    position_density_correction = prm.get("Density error correction") == "position";
+    const std::string correction = prm.get("Density error correction");
+    density_correction = correction == "position" ? DensityCorrection::position
+                         : correction == "velocity" ? DensityCorrection::velocity
+                                                    : DensityCorrection::automatic;
     neumann_walls = prm.get("Wall pressure condition") == "neumann";
     free_surface_ratio = prm.get_double("Free-surface density ratio");
     free_surface_divergence_ratio = prm.get_double("Free-surface divergence ratio");

@@ -535,7 +535,7 @@ namespace twinflow::sph
     s.mu                 = fluid.viscosity;
     s.consistent         = prm.consistent;
     s.alpha              = prm.alpha;
-    s.density_correction = prm.position_density_correction ? DensityCorrection::position : DensityCorrection::velocity;
+    s.density_correction = prm.density_correction;
     s.pressure_wall      = prm.neumann_walls ? PressureWall::neumann : PressureWall::bce;
     s.free_surface_ratio = prm.free_surface_ratio;
     s.free_surface_divergence = prm.free_surface_divergence_ratio * scene.dimension;

@@ -10,7 +10,7 @@ start), so B must reproduce A exactly: every monitor row (written with 12 digits
 series and the summary's monitor values. Also checks that a restart with another particle
 spacing is refused with an input error naming the entry.
 
-The optional entries are set on every run (e.g. 'SPH/Density error correction=position', whose
+The optional entries are set on every run (e.g. 'SPH/Density error correction=velocity'; whichever form a run uses, its
 density-error pressure must also be restored or rebuilt exactly).
 
 Snapshots (Scene/Snapshot times, two before and two after the checkpoint): B does not rewrite

@@ -27,7 +27,7 @@ namespace twinflow::sph
     double      h_over_dx     = 1.2;                      ///< smoothing length / spacing
     bool        consistent    = EngineSettings().consistent;
     double      alpha         = EngineSettings().alpha;
-    bool        position_density_correction = EngineSettings().density_correction == DensityCorrection::position;
+    DensityCorrection density_correction = EngineSettings().density_correction;
     bool        neumann_walls = EngineSettings().pressure_wall == PressureWall::neumann;
     double      free_surface_ratio = EngineSettings().free_surface_ratio;
     double      free_surface_divergence_ratio = 0.6;    ///< surface also where div r < ratio · dim (0: off)

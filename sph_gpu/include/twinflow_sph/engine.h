@@ -24,8 +24,15 @@ namespace twinflow::sph
   /// How the density-invariance term of Eq. 55 (weight α) acts: `velocity`, Eq. 55 as written (the
   /// α-blended pressure corrects the velocity, which keeps the kick as kinetic energy: the Martin &
   /// Moyce energy rose 19 % at α = 1), or `position` (the α-blended pressure moves the particles,
-  /// the velocity is projected with α = 0; one more pressure solve per step).
-  enum class DensityCorrection { velocity, position };
+  /// the velocity is projected with α = 0; one more pressure solve per step). `automatic`:
+  /// position for the consistent operators where the flow has a free surface, velocity otherwise.
+  /// A free surface is where the velocity form feeds energy in (impacts, splash: doc/benchmarks.md,
+  /// "SPH energy budget"); a confined flow has none, and there the α term acting on the velocity is
+  /// what holds the particles out of a small body: the coarse periodic cylinder (a 16-marker
+  /// cylinder, r = 2.5 Δx) diverges at t = 1.81 s with α = 0 and at 2.06 s with the position form,
+  /// whose velocity projection is the α = 0 one. The standard operators' still water at rest is
+  /// worse with the position form (bulk pressure error after 1 s 62 % against 16 %).
+  enum class DensityCorrection { velocity, position, automatic };
 
   /// Preconditioner of the pressure solve: Jacobi or the cell-aggregation multigrid (multigrid.h).
   enum class PressurePreconditioner { jacobi, multigrid };
@@ -40,7 +47,7 @@ namespace twinflow::sph
     double             mu        = 1e-3;  ///< dynamic viscosity
     bool               consistent = true; ///< consistent (Eq. 22–23) or standard (Eq. 19–20) operators
     double             alpha      = 0.5;  ///< blend of Eq. 55/57: density-invariance weight
-    DensityCorrection  density_correction = DensityCorrection::velocity; ///< where the α term acts
+    DensityCorrection  density_correction = DensityCorrection::automatic; ///< where the α term acts
     PressureWall       pressure_wall = PressureWall::bce;
     double             free_surface_ratio = 0.95; ///< fluid with ρ_i < ratio ρ0 gets p = 0
     double             free_surface_divergence = 0; ///< … or with ∇·r_i below this (0: density only)
