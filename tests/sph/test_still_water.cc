@@ -59,7 +59,8 @@ namespace
     HydrostaticCheck last;
   };
 
-  Rest stay_at_rest(const bool consistent, const double seconds)
+  Rest stay_at_rest(const bool consistent, const double seconds,
+                    const DensityCorrection form = EngineSettings().density_correction)
   {
     const Scene scene = twinflow::testing::water_tank(0.5, 0.6, 0.4);
     const double dx = 0.02;
@@ -68,6 +69,7 @@ namespace
     SphParameters prm;
     prm.spacing            = dx;
     prm.consistent         = consistent; // the defaults: wetted walls
+    prm.density_correction = form;
     const EngineSettings s = make_engine_settings(scene, prm);
     auto engine            = make_engine<2>("cpu", domain_box<2>(scene), s);
     engine->set_particles(P);
@@ -136,7 +138,18 @@ TEST(StillWater, HydrostaticStandard)
 // wall markers mirror separation; engine_functors.inl). Without it the consistent run diverges
 // at t = 2.44 s. The 2 s runs are quick; the 10 s runs (label full) are test_sph_still_water_10s.
 TEST(StillWaterAtRest, ConsistentTwoSeconds) { expect_at_rest(stay_at_rest(true, 2)); }
-TEST(StillWaterAtRest, DISABLED_ConsistentTenSeconds) { expect_at_rest(stay_at_rest(true, 10)); }
+// The 10 s bound holds with the density error corrected through the velocity (Eq. 55 as
+// written: 5.6e-4 m/s, bulk error 0.54 %). With the position form, the default for free-surface
+// scenes since 2026-12-05 (`auto`), the tank meets it at 2 s (above) but not at 10 s: 0.013 m/s
+// (6.6e-3 sqrt(gH)), bulk error 1.003 % (DISABLED_PositionFormTenSeconds; issue 14, item 2 open).
+TEST(StillWaterAtRest, DISABLED_ConsistentTenSeconds)
+{
+  expect_at_rest(stay_at_rest(true, 10, DensityCorrection::velocity));
+}
+TEST(StillWaterAtRest, DISABLED_PositionFormTenSeconds)
+{
+  expect_at_rest(stay_at_rest(true, 10, DensityCorrection::position));
+}
 
 // The standard operators (Eq. 19-20) do not meet the bound yet: their surface rows (the
 // one-sided kernel) take about half the pressure gradient they need, and the top rows settle
