@@ -3,15 +3,14 @@
 #include <twinflow_sph/engine.h>
 
 #include <algorithm>
+#include <array>
 
 namespace twinflow::sph
 {
   namespace
   {
-    const char *density_correction_name(const DensityCorrection c)
-    {
-      return c == DensityCorrection::position ? "position" : c == DensityCorrection::velocity ? "velocity" : "auto";
-    }
+    /// The entry values of `Density error correction`, in the order of DensityCorrection.
+    constexpr std::array<const char *, 3> density_correction_names{{"velocity", "position", "auto"}};
   } // namespace
 
   bool StepReport::converged() const
@@ -33,7 +32,7 @@ namespace twinflow::sph
                       "Discrete gradient/Laplacian: consistent (Eq. 22-26) or standard (Eq. 19-20).");
     prm.declare_entry("Alpha", to_string(d.alpha), Patterns::Double(0, 1),
                       "Weight of the density-invariance source in the pressure equation (Eq. 55/57).");
-    prm.declare_entry("Density error correction", density_correction_name(d.density_correction),
+    prm.declare_entry("Density error correction", density_correction_names[static_cast<int>(d.density_correction)],
                       Patterns::Selection("auto|position|velocity"),
                       "Where the density-invariance source (weight Alpha) acts: position (the Alpha-blended pressure "
                       "moves the particles, the velocity is projected with Alpha = 0: the correction adds no kinetic "
@@ -119,9 +118,9 @@ namespace twinflow::sph
     consistent    = prm.get("Operators") == "consistent";
     alpha         = prm.get_double("Alpha");
     const std::string correction = prm.get("Density error correction");
-    density_correction = correction == "position" ? DensityCorrection::position
-                         : correction == "velocity" ? DensityCorrection::velocity
-                                                    : DensityCorrection::automatic;
+    density_correction = static_cast<DensityCorrection>(
+      std::find(density_correction_names.begin(), density_correction_names.end(), correction) -
+      density_correction_names.begin());
     neumann_walls = prm.get("Wall pressure condition") == "neumann";
     free_surface_ratio = prm.get_double("Free-surface density ratio");
     free_surface_divergence_ratio = prm.get_double("Free-surface divergence ratio");

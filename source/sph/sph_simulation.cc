@@ -86,6 +86,13 @@ namespace twinflow::sph
       if (open.active())
         result.active_physics.push_back("open " + open.name + " (outflow): no BCE markers there; fluid particles "
                                         "leaving through it are removed");
+      if (s.alpha > 0)
+      {
+        std::ostringstream de;
+        de << "density error (alpha = " << s.alpha << ") corrected through the "
+           << (s.corrects_positions() ? "positions" : "velocity");
+        result.active_physics.push_back(de.str());
+      }
       if (s.free_surface)
       {
         std::ostringstream fs;

@@ -394,9 +394,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
         return multigrid_on ? bicgstab(nl.offsets, nl.indices, values, rhs, solution, settings.pressure_solver, multigrid)
                             : bicgstab(nl.offsets, nl.indices, values, rhs, solution, settings.pressure_solver);
       };
-      position_correction = settings.alpha > 0 && (settings.density_correction == DensityCorrection::position ||
-                                                    (settings.density_correction == DensityCorrection::automatic &&
-                                                     settings.free_surface && settings.consistent));
+      position_correction = settings.corrects_positions();
       if (position_correction)
       {
         // The α-blended pressure p_α (Eq. 55) moves the particles; their velocity is projected with

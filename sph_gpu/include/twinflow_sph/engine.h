@@ -80,6 +80,14 @@ namespace twinflow::sph
     /// direction axis, 2 axis for the lower; −1: none): the last-resort clamp that keeps fluid
     /// inside the box skips it; the host removes the particles beyond (sph/open_boundary.h)
     int                open_face = -1;
+
+    /// Whether the α term moves the particles (DensityCorrection::position, or `automatic` for the
+    /// consistent operators with a free surface); false when α = 0 (there is no α term).
+    bool corrects_positions() const
+    {
+      return alpha > 0 && (density_correction == DensityCorrection::position ||
+                           (density_correction == DensityCorrection::automatic && free_surface && consistent));
+    }
   };
 
   /// Particles in host memory (structure of arrays).
