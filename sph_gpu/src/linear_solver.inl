@@ -62,9 +62,18 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       TWINFLOW_HD void operator()(int i) const { p[i] = r[i] + beta * (p[i] - omega * v[i]); }
     };
 
-    template <typename F>
-    void apply(int n, const F &f) { thrust::for_each(exec, thrust::counting_iterator<int>(0), thrust::counting_iterator<int>(n), f); }
+    /// Vector updates shorter than this run on the calling thread with OpenMP (backend.h): a few
+    /// ns of work per entry against a few µs to start the team. Element-wise: the same numbers.
+    constexpr long long kSerialEntries = 16384;
 
+    /// Matrix rows (tens of products each) are worth the team from far fewer.
+    constexpr long long kSerialRows = 1024;
+
+    template <typename F>
+    void apply(int n, const F &f) { for_index(n, f, kSerialEntries); }
+
+    // The inner products stay thrust reductions at every size: a serial sum rounds differently,
+    // and the splash dam break's largest speed moves with round-off (doc/performance.md).
     double dot(const dvec<double> &a, const dvec<double> &b) { return thrust::inner_product(exec, a.begin(), a.end(), b.begin(), 0.0); }
     double norm(const dvec<double> &a) { return std::sqrt(dot(a, a)); }
 
@@ -111,7 +120,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
   {
     const int n = offsets.empty() ? 0 : int(offsets.size()) - 1;
     if (int(y.size()) != n) y.resize(n);
-    apply(n, SpmvRow{ptr(offsets), ptr(indices), ptr(values), ptr(x), ptr(y)});
+    for_index(n, SpmvRow{ptr(offsets), ptr(indices), ptr(values), ptr(x), ptr(y)}, kSerialRows);
   }
 
   void inverse_diagonal(const dvec<int> &offsets, const dvec<int> &indices, const dvec<double> &values,
@@ -119,7 +128,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
   {
     const int n = offsets.empty() ? 0 : int(offsets.size()) - 1;
     inv_diag.resize(n);
-    apply(n, InverseDiagonal{ptr(offsets), ptr(indices), ptr(values), ptr(inv_diag)});
+    for_index(n, InverseDiagonal{ptr(offsets), ptr(indices), ptr(values), ptr(inv_diag)}, kSerialRows);
   }
 
   JacobiPreconditioner::JacobiPreconditioner(const dvec<int> &offsets, const dvec<int> &indices,

@@ -396,10 +396,14 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       }
     };
 
+    /// Multigrid loops shorter than this run on the calling thread with OpenMP (backend.h): the
+    /// coarsest level's 30 sweeps alone are ~60 loops per V-cycle.
+    constexpr long long kSerialCells = 2048;
+
     template <typename F>
     void for_n(long long n, const F &f)
     {
-      thrust::for_each(exec, thrust::counting_iterator<int>(0), thrust::counting_iterator<int>(int(n)), f);
+      for_index(n, f, kSerialCells);
     }
 
     /// Runs a per-cell functor on the active cells of a level only.

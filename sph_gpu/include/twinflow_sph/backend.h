@@ -12,6 +12,8 @@
 
 #include <thrust/device_vector.h>
 #include <thrust/execution_policy.h>
+#include <thrust/for_each.h>
+#include <thrust/iterator/counting_iterator.h>
 
 #ifndef TWINFLOW_SPH_BACKEND
 #  error "TWINFLOW_SPH_BACKEND must be defined to cpu or cuda by the build"
@@ -43,6 +45,30 @@ namespace twinflow::sph
     T *ptr(dvec<T> &v) { return thrust::raw_pointer_cast(v.data()); }
     template <typename T>
     const T *ptr(const dvec<T> &v) { return thrust::raw_pointer_cast(v.data()); }
+
+#if defined(__CUDACC__) && THRUST_DEVICE_SYSTEM == THRUST_DEVICE_SYSTEM_CUDA
+    inline constexpr bool host_threads = false;
+#else
+    /// The OpenMP backend: a kernel is a parallel loop of the calling thread's team.
+    inline constexpr bool host_threads = true;
+#endif
+
+    /// Runs f(i) for i in [0, n) with the backend. On the OpenMP backend a loop of fewer than
+    /// `serial_below` items runs on the calling thread: starting and joining the team costs a few
+    /// µs, more than a short loop's work (the multigrid's coarse levels, the Krylov vector
+    /// updates of a few thousand particles; doc/performance.md).
+    template <typename F>
+    void for_index(long long n, const F &f, long long serial_below)
+    {
+      if constexpr (host_threads)
+        if (n < serial_below)
+        {
+          for (int i = 0; i < int(n); ++i)
+            f(i);
+          return;
+        }
+      thrust::for_each(exec, thrust::counting_iterator<int>(0), thrust::counting_iterator<int>(int(n)), f);
+    }
 
     /// Name of this backend ("cpu" or "cuda").
     const char *backend_name();
