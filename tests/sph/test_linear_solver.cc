@@ -176,7 +176,8 @@ TEST(SphLinearSolver, SpmvMatchesEigen)
 {
   std::mt19937 rng(42);
   for (const auto [rows, cols, density] : {std::tuple{1, 1, 1.0}, std::tuple{50, 50, 0.1}, std::tuple{300, 200, 0.02},
-                                           std::tuple{200, 300, 0.05}, std::tuple{1000, 1000, 0.005}})
+                                           std::tuple{200, 300, 0.05}, std::tuple{1000, 1000, 0.005},
+                                           std::tuple{3000, 3000, 0.002}}) // above the serial-row threshold too
   {
     std::uniform_real_distribution<double> u(0, 1), val(-2, 2);
     Triplets                               t;
@@ -192,6 +193,29 @@ TEST(SphLinearSolver, SpmvMatchesEigen)
     const Eigen::VectorXd ref = A * x, got = to_host(y);
     EXPECT_LE((got - ref).lpNorm<Eigen::Infinity>(), 1e-13 * (1 + ref.lpNorm<Eigen::Infinity>()))
       << rows << "x" << cols;
+  }
+}
+
+namespace
+{
+  struct CountVisit
+  {
+    int *visits;
+    void operator()(int i) const { ++visits[i]; }
+  };
+} // namespace
+
+// for_index (backend.h) runs a short loop on the calling thread and a long one on the OpenMP
+// team: both visit every index of [0, n) exactly once.
+TEST(SphLinearSolver, ForIndexVisitsEveryIndexOnceOnBothPaths)
+{
+  for (const int n : {0, 1, 2047, 2048, 5000})
+  {
+    dvec<int> visits(n, 0);
+    sph::cpu::for_index(n, CountVisit{thrust::raw_pointer_cast(visits.data())}, 2048);
+    const std::vector<int> host(visits.begin(), visits.end());
+    for (int i = 0; i < n; ++i)
+      ASSERT_EQ(host[i], 1) << "n = " << n << ", i = " << i;
   }
 }
 
