@@ -212,7 +212,7 @@ TEST(SphLinearSolver, ForIndexVisitsEveryIndexOnceOnBothPaths)
   for (const int n : {0, 1, 2047, 2048, 5000})
   {
     dvec<int> visits(n, 0);
-    sph::cpu::for_index(n, CountVisit{thrust::raw_pointer_cast(visits.data())}, 2048);
+    sph::cpu::for_index(n, CountVisit{sph::cpu::ptr(visits)}, 2048);
     const std::vector<int> host(visits.begin(), visits.end());
     for (int i = 0; i < n; ++i)
       ASSERT_EQ(host[i], 1) << "n = " << n << ", i = " << i;

@@ -31,10 +31,13 @@ namespace twinflow::sph
     /// wait for the GPU to finish (with thrust::device every for_each synchronises: one
     /// multigrid-BiCGStab iteration, ~150 launches, took 3–4 ms at any size on an H200,
     /// doc/performance.md); algorithms that return a value to the host still synchronise.
+    /// host_threads: the OpenMP backend, where a kernel is a parallel loop of the calling thread's team.
 #if defined(__CUDACC__) && THRUST_DEVICE_SYSTEM == THRUST_DEVICE_SYSTEM_CUDA
-    inline constexpr auto &exec = thrust::cuda::par_nosync;
+    inline constexpr auto &exec         = thrust::cuda::par_nosync;
+    inline constexpr bool  host_threads = false;
 #else
-    inline constexpr auto &exec = thrust::device;
+    inline constexpr auto &exec         = thrust::device;
+    inline constexpr bool  host_threads = true;
 #endif
 
     template <int dim>
@@ -45,13 +48,6 @@ namespace twinflow::sph
     T *ptr(dvec<T> &v) { return thrust::raw_pointer_cast(v.data()); }
     template <typename T>
     const T *ptr(const dvec<T> &v) { return thrust::raw_pointer_cast(v.data()); }
-
-#if defined(__CUDACC__) && THRUST_DEVICE_SYSTEM == THRUST_DEVICE_SYSTEM_CUDA
-    inline constexpr bool host_threads = false;
-#else
-    /// The OpenMP backend: a kernel is a parallel loop of the calling thread's team.
-    inline constexpr bool host_threads = true;
-#endif
 
     /// Runs f(i) for i in [0, n) with the backend. On the OpenMP backend a loop of fewer than
     /// `serial_below` items runs on the calling thread: starting and joining the team costs a few
