@@ -283,7 +283,8 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     void assemble_operators_and_velocity_matrix(const double dt)
     {
       if (settings.consistent)
-        report.correction_fallbacks = compute_corrections<dim>(x, V, nl, box, W, G, L, settings.correction_checks);
+        report.correction_fallbacks = compute_corrections<dim>(x, V, nl, box, W, G, L, settings.correction_checks,
+                                                               settings.free_surface ? &surface : nullptr);
       assemble_operators<dim>(x, V, nl, box, W, settings.consistent ? OperatorKind::consistent : OperatorKind::standard,
                               G, L, A);
       values.resize(nl.n_entries());

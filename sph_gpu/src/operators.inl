@@ -99,6 +99,27 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       }
     }
 
+    /// Largest eigenvalue of a Laplacian correction accepted by the conditioning check. Where
+    /// the support is full, L ≈ I; one row below a free surface its eigenvalues reach ~2. A
+    /// degenerate support (a few neighbours nearly on a line, a close pair at the surface) gives
+    /// an L that is positive definite but nearly singular in one direction, with eigenvalues up
+    /// to 1e3–1e4: its row then weighs some neighbours 4–5 × the diagonal with the diagonal's
+    /// sign and solves to an arbitrary extreme pressure (−95 kPa next to the surface of the
+    /// paper's dam break at 1.45 s, a 13.5 m/s kick in one step; doc/benchmarks.md).
+    constexpr double kLMaxEigenvalue = 4.0;
+
+    /// L positive definite with all eigenvalues ≤ kLMaxEigenvalue: L and kLMaxEigenvalue·I − L
+    /// both positive definite (L is symmetric).
+    template <int dim>
+    TWINFLOW_HD inline bool well_conditioned(const Tensor2<dim> &L)
+    {
+      Tensor2<dim> rest;
+      for (int m = 0; m < dim; ++m)
+        for (int n = 0; n < dim; ++n)
+          rest.a[m][n] = (m == n ? kLMaxEigenvalue : 0.0) - L.a[m][n];
+      return positive_definite<dim>(L) && positive_definite<dim>(rest);
+    }
+
     /// Solves K y = b (N × N, overwritten) by Gaussian elimination with partial pivoting;
     /// false if a pivot is below kLPivotTolerance · max |K| or the result is not finite.
     template <int N>
@@ -208,6 +229,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       Tensor2<dim>     *G = nullptr, *L = nullptr;
       int              *fallback = nullptr;
       CorrectionChecks  checks;
+      const int        *surface = nullptr; ///< free-surface flags (null: none, a confined flow)
 
       TWINFLOW_HD void operator()(const int i) const
       {
@@ -243,9 +265,11 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
         for (int a = 0; a < NL; ++a)
           for (int c = 0; c < NL; ++c)
             K1[a][c] = 0;
+        bool near_surface = surface && surface[i];
         for_each_neighbor(nb, i, [&](const int j, int, const geometry::Vec<dim> &r) {
           if (j == i)
             return;
+          near_surface = near_surface || (surface && surface[j]);
           const Pair<dim> p(nb.W, r);
           if (p.dist <= 0)
             return; // ∇W = 0 and no direction: contributes to no moment
@@ -321,7 +345,13 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
         // pressure row is p = 0), where an indefinite L is anti-diffusive (a surface particle
         // 3e-5 m from a neighbour, L ~ 1e3, got a 45 m/s viscous kick in the Martin & Moyce
         // dam break at a/80).
-        if (l_ok && checks.positive_definite_laplacian && !positive_definite<dim>(Li))
+        // Next to a free surface the support is truncated, and a degenerate one (a few neighbours
+        // nearly on a line, a close pair) gives a positive definite L with eigenvalues of 1e2–1e4:
+        // bounded there (well_conditioned). Inside the water an L above the bound comes from a
+        // disordered but full support, where the correction is what keeps the row consistent:
+        // the periodic cylinder's wake diverged at t = 1.57 s when those rows were replaced too.
+        if (l_ok && checks.positive_definite_laplacian &&
+            !(near_surface ? well_conditioned<dim>(Li) : positive_definite<dim>(Li)))
         {
           Li   = identity<dim>();
           l_ok = false;
@@ -434,7 +464,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
   template <int dim>
   int compute_corrections(const dvec<Vec<dim>> &x, const dvec<double> &V, const NeighborList &nl,
                           const DomainBox<dim> &box, const CubicSpline<dim> &W, dvec<Tensor2<dim>> &G,
-                          dvec<Tensor2<dim>> &L, const CorrectionChecks &checks)
+                          dvec<Tensor2<dim>> &L, const CorrectionChecks &checks, const dvec<int> *surface)
   {
     const int n = static_cast<int>(x.size());
     G.resize(n);
@@ -449,6 +479,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     f.L        = ptr(L);
     f.fallback = ptr(fallback);
     f.checks   = checks;
+    f.surface  = surface ? ptr(*surface) : nullptr;
     thrust::counting_iterator<int> first(0);
     thrust::for_each(exec, first, first + n, f);
     return thrust::reduce(exec, fallback.begin(), fallback.end(), 0);
@@ -485,7 +516,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
   template int  compute_corrections<dim>(const dvec<Vec<dim>> &, const dvec<double> &, const NeighborList &, \
                                         const DomainBox<dim> &, const CubicSpline<dim> &,                   \
                                         dvec<Tensor2<dim>> &, dvec<Tensor2<dim>> &,                         \
-                                        const CorrectionChecks &);                                        \
+                                        const CorrectionChecks &, const dvec<int> *);                     \
   template void assemble_operators<dim>(const dvec<Vec<dim>> &, const dvec<double> &, const NeighborList &,  \
                                         const DomainBox<dim> &, const CubicSpline<dim> &, OperatorKind,      \
                                         const dvec<Tensor2<dim>> &, const dvec<Tensor2<dim>> &,              \

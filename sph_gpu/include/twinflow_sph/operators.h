@@ -40,12 +40,15 @@ namespace twinflow::sph
 
     /// G_i = (−Σ_j r_ij ⊗ ∇_i W_ij V_j)^{-1} (Eq. 24) and L_i from Eq. 25–26; where the
     /// support is too deficient to invert (isolated particles), the identity is used; with
-    /// `checks` (CorrectionChecks), an L_i that is not positive definite is replaced by I.
-    /// Returns the number of particles whose G or L was replaced.
+    /// `checks` (CorrectionChecks), an L_i that is not positive definite is replaced by I, and
+    /// so is one with an eigenvalue above 4 where the particle or a neighbour is flagged in
+    /// @p surface (free-surface particles; null: none). Returns the number of particles whose
+    /// G or L was replaced.
     template <int dim>
     int compute_corrections(const dvec<Vec<dim>> &x, const dvec<double> &V, const NeighborList &nl,
                             const DomainBox<dim> &box, const CubicSpline<dim> &W, dvec<Tensor2<dim>> &G,
-                            dvec<Tensor2<dim>> &L, const CorrectionChecks &checks = {});
+                            dvec<Tensor2<dim>> &L, const CorrectionChecks &checks = {},
+                            const dvec<int> *surface = nullptr);
 
     /// Assembles A^G and A^L, standard (Eq. 19–20) or consistent (Eq. 22–23, using G, L).
     template <int dim>
