@@ -95,8 +95,10 @@ namespace twinflow::sph
                       "current step (the paper) or the reference step min(Time step, CFL h / Monitors/Reference "
                       "velocity), so that a CFL step shortened by a few fast particles does not stiffen it as 1/dt^2.");
     prm.declare_entry("Positive-definite Laplacian correction", to_string(d.positive_definite_laplacian), Patterns::Bool(),
-                      "Consistent operators: a non-surface particle whose L_i is not positive definite gets the "
-                      "standard Laplacian row (keeps the pressure rows elliptic in splashing flows).");
+                      "Consistent operators: a particle whose L_i is not positive definite, or next to a free "
+                      "surface has an eigenvalue above 4 (a degenerate truncated support), gets the standard "
+                      "Laplacian row (keeps the pressure rows elliptic and the viscous rows diffusive in "
+                      "splashing flows).");
     prm.declare_entry("Max iterations", to_string(d.max_iterations), Patterns::Integer(1), "Iteration cap of the BiCGStab solves.");
     prm.declare_entry("Checkpoint interval", to_string(d.checkpoint_interval), Patterns::Double(0),
                       "Simulated time [s] between checkpoints of the particle state (<output>/sph/checkpoint.bin, "
