@@ -72,10 +72,11 @@ namespace twinflow::sph
                       "separates a pair that has formed; a pair swept back into the water compresses its support "
                       "by up to 20 % and is kicked out by the density-invariance pressure. 0: off.");
     prm.declare_entry("Limit pressure peaks", d.limit_pressure_peaks ? "true" : "false", Patterns::Bool(),
-                      "Consistent operators: a fluid particle whose pressure is a strict local maximum (above every "
-                      "neighbour) gets a zero pressure gradient, the gradient of a smooth field at its maximum. "
-                      "Otherwise the one-sided consistent gradient of such a particle at the edge of colliding "
-                      "splash sheets pulls it into its neighbours and ejects it (spray kicks). Not next to a solid.");
+                      "Consistent operators: a fluid particle whose pressure is a strict local maximum (p > 0, above "
+                      "every neighbour) or minimum (p < 0, below every neighbour) gets a zero pressure gradient, the "
+                      "gradient of a smooth field at its extremum. Otherwise the one-sided consistent gradient of "
+                      "such a particle at the edge of colliding splash sheets, or of a tear between separating "
+                      "streams, ejects it (spray kicks). Not next to a solid.");
     prm.declare_entry("Wetted walls", d.wetted_walls ? "true" : "false", Patterns::Bool(),
                       "Consistent operators: wall BCE markers hold the liquid that wets them: their force-balance "
                       "pressure (Eq. 64) uses rho0 instead of the fluid's summation density, and a marker "
