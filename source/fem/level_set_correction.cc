@@ -47,7 +47,7 @@ namespace twinflow::fem
     cut_count.reinit(space.owned(), space.relevant(), space.communicator(), true);
     std::vector<types::global_dof_index> indices(n);
     std::vector<double>    values(n);
-    double                 epsilon_min = std::numeric_limits<double>::max();
+    double                 epsilon_min = std::numeric_limits<double>::max(), epsilon_cut = 0;
     const bool             far_only    = space.parameters().far_field_only; // cut cells keep their φ: no slopes
     for (const auto &cell : space.dof_handler().active_cell_iterators())
     {
@@ -63,6 +63,7 @@ namespace twinflow::fem
       }
       if (lo > 0 || hi < 0)
         continue;
+      epsilon_cut = std::max(epsilon_cut, space.epsilon(cell));
       cell->get_dof_indices(indices);
       // Parallelepiped cell (box meshes): x = v0 + J ξ.
       Tensor<2, dim> J;
@@ -125,6 +126,9 @@ namespace twinflow::fem
     gradient_sum.compress(VectorOperation::add);
     cut_count.compress(VectorOperation::add);
     const double band = LevelSetParameters::far_field_band * Utilities::MPI::min(epsilon_min, space.communicator());
+    // the near field (see the class documentation): every node on a full pass, else |φ| < B
+    const double near  = near_field_band * Utilities::MPI::max(epsilon_cut, space.communicator());
+    const bool   full  = !have_full || space.travel_total() - travel_at_full >= 0.25 * near;
     const auto gathered = Utilities::MPI::all_gather(space.communicator(), local);
     std::vector<std::pair<Point<dim>, unsigned int>> leaves;
     std::vector<double>                              data;
@@ -160,6 +164,11 @@ namespace twinflow::fem
         next[i]            = slope > 0 ? old / slope : old;
         continue;
       }
+      if (!full && std::abs(old) >= near)
+      {
+        next[i] = old;
+        continue;
+      }
       nearest.clear();
       tree.query(boost::geometry::index::nearest(x, k), std::back_inserter(nearest));
       double d = std::numeric_limits<double>::max();
@@ -177,6 +186,31 @@ namespace twinflow::fem
     }
     next.compress(VectorOperation::insert);
     ncls.set(next);
+    if (full)
+    {
+      have_full      = true;
+      travel_at_full = space.travel_total();
+    }
+  }
+
+  template <int dim>
+  void Redistancing<dim>::save_state(std::ostream &out) const
+  {
+    out.precision(17);
+    out << "redistancing " << steps << ' ' << (have_full ? space.travel_total() - travel_at_full : -1.0) << '\n';
+  }
+
+  template <int dim>
+  void Redistancing<dim>::load_state(std::istream &in)
+  {
+    std::string tag;
+    double      since_full = -1;
+    in >> tag >> steps >> since_full;
+    AssertThrow(in && tag == "redistancing",
+                ExcMessage("checkpoint metadata: the redistancing line is missing or malformed (a checkpoint "
+                           "written before 2026-12-06 cannot be restarted by this version)"));
+    have_full      = since_full >= 0;
+    travel_at_full = space.travel_total() - since_full;
   }
 
   // ---------------------------------------------------------------------------------------
@@ -259,9 +293,15 @@ namespace twinflow::fem
     correction = 0;
     newton     = 0;
     ++amg_age;
-    // ∫ (H_ε(φ + u) − θ): the volume constraint alone, without the Jacobian.
-    const auto volume_mismatch = [&] {
-      double m = 0;
+    // After a full Newton step the residual is second order in u and the volume (the equation
+    // tested with v = 1) is the only part the stopping test reads: it is met by a uniform shift
+    // u ← u + c, which leaves the diffusion term κ∇u unchanged, by a scalar Newton on c over
+    // the points of the band (H_ε(φ + u + c) differs from H_ε(φ + u) only where |φ + u| < ε + |c|).
+    // Returns false when c would leave the band the points were taken from (then a full step).
+    const auto shift_volume = [&]() -> bool {
+      struct BandPoint { double s, eps, JxW; };
+      std::vector<BandPoint> band;
+      double m0 = 0;
       for (const auto &cell : space.dof_handler().active_cell_iterators())
       {
         if (!cell->is_locally_owned())
@@ -274,15 +314,46 @@ namespace twinflow::fem
         }
         const double eps = space.epsilon(cell);
         for (unsigned int q = 0; q < nq; ++q)
-          m += (smoothed_heaviside(phi_q[q] + u_q[q], eps) - theta_q[q]) * fev.JxW(q);
+        {
+          const double s = phi_q[q] + u_q[q];
+          m0 += (smoothed_heaviside(s, eps) - theta_q[q]) * fev.JxW(q);
+          if (std::abs(s) < 2 * eps)
+            band.push_back({s, eps, fev.JxW(q)});
+        }
       }
-      return Utilities::MPI::sum(m, comm);
+      double mismatch = Utilities::MPI::sum(m0, comm);
+      double c = 0, eps_min = std::numeric_limits<double>::max();
+      for (const auto &b : band)
+        eps_min = std::min(eps_min, b.eps);
+      eps_min = Utilities::MPI::min(eps_min, comm);
+      for (unsigned int k = 0; k < 20 && std::abs(mismatch) >= prm.correction_tolerance * domain; ++k)
+      {
+        double slope = 0;
+        for (const auto &b : band)
+          slope += smoothed_delta(b.s + c, b.eps) * b.JxW;
+        slope = Utilities::MPI::sum(slope, comm);
+        if (!(slope > 0))
+          return false;
+        c -= mismatch / slope;
+        if (!(std::abs(c) < eps_min))
+          return false;
+        double m = 0;
+        for (const auto &b : band)
+          m += (smoothed_heaviside(b.s + c, b.eps) - smoothed_heaviside(b.s, b.eps)) * b.JxW;
+        mismatch = Utilities::MPI::sum(m0 + m, comm);
+      }
+      if (std::abs(mismatch) >= prm.correction_tolerance * domain)
+        return false;
+      u_owned.add(c);
+      space.constraints().distribute(u_owned); // a constant meets every (affine, weights summing to 1) constraint
+      correction = u_owned;
+      return true;
     };
     for (; newton < 25; ++newton)
     {
-      // After a Newton update the volume usually matches already: checked first without
-      // assembling a Jacobian that would not be used (a third of this solver's time).
-      if (newton > 0 && std::abs(volume_mismatch()) < prm.correction_tolerance * domain)
+      // After a full Newton step the volume usually matches already or to second order: a
+      // uniform shift finishes it without assembling a Jacobian (see shift_volume).
+      if (newton > 0 && shift_volume())
         break;
       jacobian = 0;
       residual = 0;

@@ -443,23 +443,46 @@ namespace twinflow::fem
     auto &fev = fe_values[n1d];
     if (!fev)
       fev = std::make_unique<FEValues<dim>>(space.mapping(), space.fe(), QGauss<dim>(n1d),
-                                            update_values | update_gradients | update_quadrature_points);
+                                            update_values | update_quadrature_points);
     const auto lcell = space.cell_of(cell);
-    fev->reinit(lcell);
-    Assert(fev->quadrature_point(0).distance(points[0]) < 1e-8 * cell->diameter(),
-           ExcMessage("TwoPhaseMaterial: quadrature points do not match"));
     values.resize(nq);
     phi.resize(nq);
     phi_old.resize(nq);
     phi_older.resize(nq);
+    const double eps = space.epsilon(cell);
+    const double dr = fluids.rho_air - fluids.rho_water, dm = fluids.mu_air - fluids.mu_water;
+    const std::array<const TrilinosWrappers::MPI::Vector *, 3> vectors{&ncls->value(), &ncls->previous(), &ncls->older()};
+    // A Q1 field lies between its nodal extremes in the cell: where all three level sets are
+    // beyond ±ε at every node, H_ε is 0 or 1 at every point and the cell holds one fluid.
+    if (space.fe().degree == 1)
+    {
+      int side = 0; // +1 all air, −1 all water, 0 mixed
+      for (unsigned int k = 0; k < 3; ++k)
+      {
+        space.reader().gather(lcell, *vectors[k], cell_values[k]);
+        const auto [lo, hi] = std::minmax_element(cell_values[k].begin(), cell_values[k].end());
+        const int  s        = *lo >= eps ? 1 : (*hi <= -eps ? -1 : 0);
+        side                = k == 0 ? s : (side == s ? side : 0);
+      }
+      if (side != 0)
+      {
+        const double rho = side > 0 ? fluids.rho_air : fluids.rho_water;
+        std::fill(values.density.begin(), values.density.end(), rho);
+        std::fill(values.density_previous.begin(), values.density_previous.end(), rho);
+        std::fill(values.density_older.begin(), values.density_older.end(), rho);
+        std::fill(values.viscosity.begin(), values.viscosity.end(), side > 0 ? fluids.mu_air : fluids.mu_water);
+        return;
+      }
+    }
+    fev->reinit(lcell);
+    Assert(fev->quadrature_point(0).distance(points[0]) < 1e-8 * cell->diameter(),
+           ExcMessage("TwoPhaseMaterial: quadrature points do not match"));
     const FEValuesExtractors::Scalar scalar(0);
-    for (auto [v, out] : {std::pair{&ncls->value(), &phi}, {&ncls->previous(), &phi_old}, {&ncls->older(), &phi_older}})
+    for (auto [v, out] : {std::pair{vectors[0], &phi}, {vectors[1], &phi_old}, {vectors[2], &phi_older}})
     {
       space.reader().gather(lcell, *v, local);
       (*fev)[scalar].get_function_values_from_local_dof_values(local, *out);
     }
-    const double eps = space.epsilon(cell);
-    const double dr = fluids.rho_air - fluids.rho_water, dm = fluids.mu_air - fluids.mu_water;
     // ρ enters the momentum equation as its cell mean ρ̄_K: gravity ρ̄_K g is then balanced
     // exactly by the Q1 interpolant of the hydrostatic pressure wherever the surface is level
     // across a cell (the slope of p_h in a cell is the column mean of ρ g); with ρ at the

@@ -186,6 +186,7 @@ namespace twinflow::fem
       assemble_pressure_laplacian();
     rebuild_velocity_preconditioner = true;
     velocity_jacobi.clear();
+    velocity_ilu.clear();
     mass_jacobi.clear();
 
     ++state_counter;
@@ -631,7 +632,7 @@ namespace twinflow::fem
     {
       rebuild_velocity_preconditioner = false;
       if (kind == "ilu")
-        velocity_ilu.initialize(velocity_matrix);
+        velocity_ilu.compute(velocity_matrix);
       else if (kind == "ssor")
         velocity_ssor.initialize(velocity_matrix);
       else if (kind == "jacobi")

@@ -112,7 +112,9 @@ namespace twinflow::fem
     double displacement_since_adaptation() const override { return travelled; }
     void   mark_adapted() override { travelled = 0; }
     /// The interface moved at most @p distance this step (max|u| dt).
-    void   add_travel(double distance) { travelled += distance; }
+    void   add_travel(double distance) { travelled += distance; total_travel += distance; }
+    /// Σ max|u| dt since the start of the run (or restart); never reset.
+    double travel_total() const { return total_travel; }
 
     /// ε of H_ε on a cell.
     double epsilon(const typename dealii::Triangulation<dim>::cell_iterator &cell) const;
@@ -197,7 +199,7 @@ namespace twinflow::fem
     struct Periodic { dealii::types::boundary_id b1, b2; unsigned int direction; };
     std::vector<Periodic>     periodic;
     const NclsTransport<dim> *level_set = nullptr;
-    double                    travelled = 0;
+    double                    travelled = 0, total_travel = 0;
     dealii::ConditionalOStream  silent{std::cout, false};
     mutable dealii::TimerOutput timer_output;
   };
@@ -299,6 +301,14 @@ namespace twinflow::fem
    * the transported φ bit for bit, so Γ, H_ε(φ) and the water volume do not change, while
    * the far field, which the transport alone erodes, gets its distance back; without the
    * cut-cell rescaling that breaks the surface up next to a moving body.
+   *
+   * The distance of a node costs a nearest-samples query; only the near field needs it every
+   * step. Nodes with |φ| ≥ B = near_field_band × (largest ε of a cut cell) keep their transported
+   * φ until the surface has travelled B/4 (Σ max|u| dt, LevelSetSpace::travel_total) since the
+   * last pass over every node: such a node was at least B from Γ then, so it is still ≥ B/2 =
+   * 2ε away (one step's travel, not yet counted when this runs, included), outside the band
+   * where H_ε(φ) and δ_ε(φ) vary, and a node whose transported |φ| drops below B is redistanced
+   * at once. At the CFL 0.25 step of the dam break that is one full pass in six steps.
    */
   template <int dim>
   class Redistancing : public FieldPhysics<dim>
@@ -306,7 +316,12 @@ namespace twinflow::fem
   public:
     Redistancing(LevelSetSpace<dim> &space, NclsTransport<dim> &ncls) : space(space), ncls(ncls) {}
     std::string name() const override { return "redistancing"; }
-    void        setup_dofs() override {}
+    void        setup_dofs() override { have_full = false; } // a new mesh: every node next time
+    /// The step count and the travel since the last full pass (a restart redistances as the
+    /// uninterrupted run would).
+    void        save_state(std::ostream &out) const override;
+    void        load_state(std::istream &in) override;
+    static constexpr double near_field_band = 4.0; ///< B / ε of the nodes redistanced every step
     void        advance(double dt) override;
     /// Redistance the current φ of the NCLS.
     void        redistance();
@@ -318,6 +333,8 @@ namespace twinflow::fem
     NclsTransport<dim> &ncls;
     std::size_t         samples = 0;
     unsigned int        steps   = 0; ///< steps since the start (or restart)
+    bool                have_full      = false; ///< a pass over every node was made on this mesh
+    double              travel_at_full = 0;     ///< travel_total() at that pass
   };
 
   /// A moving solid's interior holds no water: after the transports, φ ← max(φ, −φ_s) at the
@@ -404,6 +421,7 @@ namespace twinflow::fem
     mutable std::map<unsigned int, std::unique_ptr<dealii::FEValues<dim>>> fe_values;
     mutable std::vector<double>           phi, phi_old, phi_older;
     mutable std::vector<double>           local;
+    mutable std::array<std::vector<double>, 3> cell_values; ///< nodal φ, φ_old, φ_older of a cell
   };
 
   /// What the free-surface monitors measure (collective).

@@ -243,7 +243,7 @@ namespace twinflow::fem
     dealii::TrilinosWrappers::SparseMatrix velocity_matrix, pressure_laplace, velocity_mass;
     dealii::TrilinosWrappers::SparseMatrix pressure_gradient; ///< see assemble_pressure_gradient()
     dealii::TrilinosWrappers::PreconditionAMG velocity_amg, pressure_amg;
-    dealii::TrilinosWrappers::PreconditionILU velocity_ilu;
+    ReusableIlu                               velocity_ilu; ///< its fill graph kept per mesh
     dealii::TrilinosWrappers::PreconditionSSOR   velocity_ssor;
     InverseDiagonal                           velocity_jacobi, mass_jacobi;
     dealii::TrilinosWrappers::MPI::Vector     velocity_rhs, pressure_rhs;
