@@ -15,7 +15,8 @@ namespace twinflow::fem
                       "Time discretisation of the projection scheme: backward Euler or (variable-step) BDF2.");
     prm.declare_entry("Viscous term", "auto", Selection("auto|laplacian|symmetric"),
                       "Form of the viscous term: mu grad u : grad v (constant viscosity) or 2 mu eps(u) : eps(v). "
-                      "'auto' picks laplacian for one fluid and symmetric for two.");
+                      "'auto' is laplacian, with one fluid and with two (the forms differ where mu varies, across "
+                      "the interface; the symmetric one adds the cross-component blocks to the momentum matrix).");
     prm.declare_entry("Linear solver tolerance", "1e-10", Double(1e-16, 1e-2),
                       "Relative residual reduction of every Krylov solve.");
     prm.declare_entry("AMG rebuild interval", "1", Integer(1, 1000),
