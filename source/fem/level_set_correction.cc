@@ -22,8 +22,10 @@ namespace twinflow::fem
   // Redistancing
   // ---------------------------------------------------------------------------------------
   template <int dim>
-  void Redistancing<dim>::advance(double)
+  void Redistancing<dim>::advance(const double dt)
   {
+    // the surface moved at most this far (max_velocity is the largest component: |u| ≤ √dim of it)
+    travel += std::sqrt(double(dim)) * ncls.carrier().max_velocity() * dt;
     ++steps;
     if (space.parameters().redistance && steps % space.parameters().redistancing_interval == 0)
       redistance();
@@ -128,7 +130,7 @@ namespace twinflow::fem
     const double band = LevelSetParameters::far_field_band * Utilities::MPI::min(epsilon_min, space.communicator());
     // the near field (see the class documentation): every node on a full pass, else |φ| < B
     const double near  = near_field_band * Utilities::MPI::max(epsilon_cut, space.communicator());
-    const bool   full  = !have_full || space.travel_total() - travel_at_full >= 0.25 * near;
+    const bool   full  = !have_full || travel - travel_at_full >= 0.25 * near;
     const auto gathered = Utilities::MPI::all_gather(space.communicator(), local);
     std::vector<std::pair<Point<dim>, unsigned int>> leaves;
     std::vector<double>                              data;
@@ -189,7 +191,7 @@ namespace twinflow::fem
     if (full)
     {
       have_full      = true;
-      travel_at_full = space.travel_total();
+      travel_at_full = travel;
     }
   }
 
@@ -197,7 +199,7 @@ namespace twinflow::fem
   void Redistancing<dim>::save_state(std::ostream &out) const
   {
     out.precision(17);
-    out << "redistancing " << steps << ' ' << (have_full ? space.travel_total() - travel_at_full : -1.0) << '\n';
+    out << "redistancing " << steps << ' ' << (have_full ? travel - travel_at_full : -1.0) << '\n';
   }
 
   template <int dim>
@@ -210,7 +212,7 @@ namespace twinflow::fem
                 ExcMessage("checkpoint metadata: the redistancing line is missing or malformed (a checkpoint "
                            "written before 2026-12-06 cannot be restarted by this version)"));
     have_full      = since_full >= 0;
-    travel_at_full = space.travel_total() - since_full;
+    travel_at_full = travel - since_full;
   }
 
   // ---------------------------------------------------------------------------------------

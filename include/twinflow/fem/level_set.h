@@ -112,9 +112,7 @@ namespace twinflow::fem
     double displacement_since_adaptation() const override { return travelled; }
     void   mark_adapted() override { travelled = 0; }
     /// The interface moved at most @p distance this step (max|u| dt).
-    void   add_travel(double distance) { travelled += distance; total_travel += distance; }
-    /// Σ max|u| dt since the start of the run (or restart); never reset.
-    double travel_total() const { return total_travel; }
+    void   add_travel(double distance) { travelled += distance; }
 
     /// ε of H_ε on a cell.
     double epsilon(const typename dealii::Triangulation<dim>::cell_iterator &cell) const;
@@ -199,7 +197,7 @@ namespace twinflow::fem
     struct Periodic { dealii::types::boundary_id b1, b2; unsigned int direction; };
     std::vector<Periodic>     periodic;
     const NclsTransport<dim> *level_set = nullptr;
-    double                    travelled = 0, total_travel = 0;
+    double                    travelled = 0;
     dealii::ConditionalOStream  silent{std::cout, false};
     mutable dealii::TimerOutput timer_output;
   };
@@ -227,6 +225,8 @@ namespace twinflow::fem
     /// Interpolate @p f as the initial value (previous = current).
     void initialize(const dealii::Function<dim> &f);
     double last_step() const { return dt_last; }
+    /// The flow that carries the field.
+    const NavierStokes<dim> &carrier() const { return flow; }
     unsigned int last_iterations() const { return iterations; }
 
   protected:
@@ -304,11 +304,11 @@ namespace twinflow::fem
    *
    * The distance of a node costs a nearest-samples query; only the near field needs it every
    * step. Nodes with |φ| ≥ B = near_field_band × (largest ε of a cut cell) keep their transported
-   * φ until the surface has travelled B/4 (Σ max|u| dt, LevelSetSpace::travel_total) since the
-   * last pass over every node: such a node was at least B from Γ then, so it is still ≥ B/2 =
-   * 2ε away (one step's travel, not yet counted when this runs, included), outside the band
-   * where H_ε(φ) and δ_ε(φ) vary, and a node whose transported |φ| drops below B is redistanced
-   * at once. At the CFL 0.25 step of the dam break that is one full pass in six steps.
+   * φ until the surface has travelled B/4 (Σ max|u| dt over the steps advance() was called for,
+   * this step's included) since the last pass over every node: such a node was at least B from Γ
+   * then, so it is still ≥ 3B/4 = 3ε away, outside the band where H_ε(φ) and δ_ε(φ) vary, and a
+   * node whose transported |φ| drops below B is redistanced at once. At the CFL 0.25 step of the
+   * dam break that is one full pass in six steps. redistance() called alone counts no travel.
    */
   template <int dim>
   class Redistancing : public FieldPhysics<dim>
@@ -334,7 +334,8 @@ namespace twinflow::fem
     std::size_t         samples = 0;
     unsigned int        steps   = 0; ///< steps since the start (or restart)
     bool                have_full      = false; ///< a pass over every node was made on this mesh
-    double              travel_at_full = 0;     ///< travel_total() at that pass
+    double              travel         = 0;     ///< Σ max|u| dt of the steps advanced
+    double              travel_at_full = 0;     ///< travel at that pass
   };
 
   /// A moving solid's interior holds no water: after the transports, φ ← max(φ, −φ_s) at the
