@@ -63,6 +63,56 @@ TEST(LevelSet, RedistancingRestoresUnitGradientAndHoldsTheZeroLevel)
   EXPECT_LT(shift, 0.05 * h);  // Q1 interpolation of the circle itself is off by h^2/(8R) = 0.008 h
 }
 
+TEST(LevelSet, RedistancingNearFieldEveryStepFarFieldOnceTheSurfaceHasTravelled)
+{
+  // φ = 2 d(x) (every node off by a factor 2) carried by u = (0.1, 0): a step whose travel
+  // √2 |u|_∞ Δt is below B/4 redistances the nodes with |φ| < B = 4ε only and leaves the others
+  // bit for bit; once the travel since the last full pass reaches B/4 every node is a distance.
+  const Circle                   steep(2.0), exact(1.0);
+  Functions::ConstantFunction<2> drift(std::vector<double>{0.1, 0.0});
+  LevelSetRig                    rig(6, steep, drift);
+  rig.redistance->redistance(); // the first pass covers every node
+  const double h = 1.0 / 64, band = Redistancing<2>::near_field_band * rig.prm.interface_width * h;
+  TrilinosWrappers::MPI::Vector eroded;
+  rig.space->reinit_owned(eroded);
+  VectorTools::interpolate(rig.space->mapping(), rig.space->dof_handler(), steep, eroded);
+  rig.ncls->set(eroded);
+  const TrilinosWrappers::MPI::Vector before = rig.ncls->value();
+  const double travel_per_time = std::sqrt(2.0) * 0.1;
+  const auto   errors = [&](double &near_error, double &far_error, unsigned int &far_kept, unsigned int &far_nodes) {
+    near_error = far_error = 0;
+    far_kept = far_nodes = 0;
+    for (const auto &[i, x] : rig.space->support_points())
+    {
+      const double e = std::abs(rig.ncls->value()[i] - exact.value(x));
+      if (std::abs(before[i]) < band)
+        near_error = std::max(near_error, e);
+      else
+      {
+        ++far_nodes;
+        far_kept += rig.ncls->value()[i] == before[i];
+        far_error = std::max(far_error, e);
+      }
+    }
+  };
+  double       near_error = 0, far_error = 0;
+  unsigned int far_kept = 0, far_nodes = 0;
+  rig.redistance->advance(0.1 * band / travel_per_time); // travel B/10
+  errors(near_error, far_error, far_kept, far_nodes);
+  std::cout << "near/far redistancing, travel B/10: near nodes off the distance by " << near_error / h << " h, "
+            << far_kept << " of " << far_nodes << " far nodes kept" << std::endl;
+  EXPECT_LT(near_error, 0.1 * h);
+  EXPECT_GT(far_nodes, 2000u);
+  EXPECT_EQ(far_kept, far_nodes);
+  rig.redistance->advance(0.2 * band / travel_per_time); // travel 0.3 B since the full pass
+  errors(near_error, far_error, far_kept, far_nodes);
+  std::cout << "near/far redistancing, travel 0.3 B: near " << near_error / h << " h, far " << far_error / h << " h, "
+            << far_kept << " far nodes kept" << std::endl;
+  EXPECT_LT(near_error, 0.1 * h);
+  EXPECT_LT(far_error, 0.1 * h);
+  EXPECT_EQ(far_kept, 0u);
+}
+
 namespace
 {
   /// A steep flat surface, φ = 2 (y − 0.5) (air above), whose far field in the air has been
