@@ -82,9 +82,9 @@ namespace twinflow::fem
 
   template <int dim>
   ImmersedSolid<dim>::ImmersedSolid(const Solid &s, const double span, const bool periodic_span)
-    : label(s.name)
-    , rotation(unit_symmetric_tensor<dim>())
+    : rotation(unit_symmetric_tensor<dim>())
     , adapted_rotation(unit_symmetric_tensor<dim>())
+    , label(s.name)
   {
     geometry::Vec<dim> c;
     for (int d = 0; d < dim; ++d)
