@@ -301,8 +301,7 @@ namespace twinflow::fem
     // the points of the band (H_ε(φ + u + c) differs from H_ε(φ + u) only where |φ + u| < ε + |c|).
     // Returns false when c would leave the band the points were taken from (then a full step).
     const auto shift_volume = [&]() -> bool {
-      struct BandPoint { double s, eps, JxW; };
-      std::vector<BandPoint> band;
+      band.clear();
       double m0 = 0;
       for (const auto &cell : space.dof_handler().active_cell_iterators())
       {

@@ -451,7 +451,9 @@ namespace twinflow::fem
     phi_older.resize(nq);
     const double eps = space.epsilon(cell);
     const double dr = fluids.rho_air - fluids.rho_water, dm = fluids.mu_air - fluids.mu_water;
-    const std::array<const TrilinosWrappers::MPI::Vector *, 3> vectors{&ncls->value(), &ncls->previous(), &ncls->older()};
+    const std::array<const TrilinosWrappers::MPI::Vector *, 3> vectors{{&ncls->value(), &ncls->previous(), &ncls->older()}};
+    for (unsigned int k = 0; k < 3; ++k)
+      space.reader().gather(lcell, *vectors[k], cell_values[k]);
     // A Q1 field lies between its nodal extremes in the cell: where all three level sets are
     // beyond ±ε at every node, H_ε is 0 or 1 at every point and the cell holds one fluid.
     if (space.fe().degree == 1)
@@ -459,7 +461,6 @@ namespace twinflow::fem
       int side = 0; // +1 all air, −1 all water, 0 mixed
       for (unsigned int k = 0; k < 3; ++k)
       {
-        space.reader().gather(lcell, *vectors[k], cell_values[k]);
         const auto [lo, hi] = std::minmax_element(cell_values[k].begin(), cell_values[k].end());
         const int  s        = *lo >= eps ? 1 : (*hi <= -eps ? -1 : 0);
         side                = k == 0 ? s : (side == s ? side : 0);
@@ -478,11 +479,9 @@ namespace twinflow::fem
     Assert(fev->quadrature_point(0).distance(points[0]) < 1e-8 * cell->diameter(),
            ExcMessage("TwoPhaseMaterial: quadrature points do not match"));
     const FEValuesExtractors::Scalar scalar(0);
-    for (auto [v, out] : {std::pair{vectors[0], &phi}, {vectors[1], &phi_old}, {vectors[2], &phi_older}})
-    {
-      space.reader().gather(lcell, *v, local);
-      (*fev)[scalar].get_function_values_from_local_dof_values(local, *out);
-    }
+    (*fev)[scalar].get_function_values_from_local_dof_values(cell_values[0], phi);
+    (*fev)[scalar].get_function_values_from_local_dof_values(cell_values[1], phi_old);
+    (*fev)[scalar].get_function_values_from_local_dof_values(cell_values[2], phi_older);
     // ρ enters the momentum equation as its cell mean ρ̄_K: gravity ρ̄_K g is then balanced
     // exactly by the Q1 interpolant of the hydrostatic pressure wherever the surface is level
     // across a cell (the slope of p_h in a cell is the column mean of ρ g); with ρ at the

@@ -397,6 +397,9 @@ namespace twinflow::fem
     dealii::TrilinosWrappers::MPI::Vector  correction;
     unsigned int                           newton = 0;
     double                                 max_correction = 0;
+    /// φ + u, ε and JxW at the quadrature points with |φ + u| < 2ε (the uniform shift's band)
+    struct BandPoint { double s, eps, JxW; };
+    std::vector<BandPoint>                 band;
   };
 
   /// ρ, μ of Eq. 9–10 from the current φ (t^n: Algorithm 1 runs Navier–Stokes first);
@@ -421,7 +424,6 @@ namespace twinflow::fem
     /// FEValues of the level-set space per Gauss quadrature size asked for (QGauss(n), n^dim points).
     mutable std::map<unsigned int, std::unique_ptr<dealii::FEValues<dim>>> fe_values;
     mutable std::vector<double>           phi, phi_old, phi_older;
-    mutable std::vector<double>           local;
     mutable std::array<std::vector<double>, 3> cell_values; ///< nodal φ, φ_old, φ_older of a cell
   };
 
