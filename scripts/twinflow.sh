@@ -9,7 +9,8 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
 
 packages=(cmake make g++ ccache libdeal.ii-dev libeigen3-dev libboost-dev libgtest-dev
-          openmpi-bin python3-matplotlib)
+          openmpi-bin python3-matplotlib
+          libopenblas0-serial)  # optimised BLAS for Epetra's dot products and norms (the Krylov solves), one thread
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "ok installed" || missing+=("$p")

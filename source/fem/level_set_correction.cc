@@ -347,7 +347,7 @@ namespace twinflow::fem
         return false;
       u_owned.add(c);
       space.constraints().distribute(u_owned); // a constant meets every (affine, weights summing to 1) constraint
-      correction = u_owned;
+      space.reader().assign(correction, u_owned);
       return true;
     };
     for (; newton < 25; ++newton)
@@ -454,7 +454,7 @@ namespace twinflow::fem
       solve_named("mass-correction Newton", control, [&] { cg.solve(jacobian, delta, residual, amg); });
       space.constraints().distribute(delta);
       u_owned += delta;
-      correction = u_owned;
+      space.reader().assign(correction, u_owned);
       if (delta.linfty_norm() < 1e-12 * std::pow(domain, 1.0 / dim))
       {
         ++newton;
@@ -464,7 +464,7 @@ namespace twinflow::fem
     max_correction = u_owned.linfty_norm();
     TrilinosWrappers::MPI::Vector phi;
     space.reinit_owned(phi);
-    phi = ncls.value();
+    space.reader().assign(phi, ncls.value());
     phi += u_owned;
     ncls.set(phi);
     TrilinosWrappers::MPI::Vector theta;

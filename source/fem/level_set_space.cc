@@ -256,7 +256,7 @@ namespace twinflow::fem
     SolverCG<TrilinosWrappers::MPI::Vector> cg(control);
     solve_named("level-set L2 projection", control, [&] { cg.solve(mass, x, rhs, mass_preconditioner); });
     mesh_constraints.distribute(x);
-    theta = x;
+    cells.assign(theta, x);
   }
 
   template <int dim>
@@ -349,7 +349,7 @@ namespace twinflow::fem
   {
     before_previous = before;
     before          = current;
-    current         = next;
+    space.reader().assign(current, next);
     dt_last         = dt;
   }
 
@@ -358,9 +358,9 @@ namespace twinflow::fem
   {
     TrilinosWrappers::MPI::Vector owned;
     space.reinit_owned(owned);
-    owned = v;
+    space.reader().assign(owned, v);
     space.constraints().distribute(owned);
-    current = owned;
+    space.reader().assign(current, owned);
   }
 
   template <int dim>

@@ -212,7 +212,7 @@ namespace twinflow::fem
 
     ilu.compute(matrix); // the symbolic factorisation is kept while the mesh is
     space.reinit_owned(result);
-    result = current;
+    space.reader().assign(result, current);
     space.constraints().set_zero(result);
     SolverControl control(1000, std::max(space.parameters().linear_tolerance * rhs.l2_norm(), 1e-300));
     SolverGMRES<TrilinosWrappers::MPI::Vector> gmres(control, SolverGMRES<TrilinosWrappers::MPI::Vector>::AdditionalData(50));
@@ -227,7 +227,7 @@ namespace twinflow::fem
   {
     TrilinosWrappers::MPI::Vector provisional;
     space.reinit_ghosted(provisional);
-    provisional = provisional_owned;
+    space.reader().assign(provisional, provisional_owned);
     const auto        &fe = space.fe();
     const QGauss<dim>  quad(fe.degree + 1);
     FEValues<dim>      fev(space.mapping(), fe, quad, update_values | update_gradients);

@@ -654,8 +654,8 @@ namespace twinflow::fem
     TrilinosWrappers::MPI::Vector x(velocity_owned, comm), older(velocity_owned, comm);
     // Start from the extrapolation u* = e0 uⁿ + e1 uⁿ⁻¹ (second order in τ: ~30 % fewer
     // iterations than uⁿ at the CFL step of a dam break).
-    x     = u_n;
-    older = u_nm1;
+    velocity_cells.copy_owned(x, u_n);
+    velocity_cells.copy_owned(older, u_nm1);
     x.sadd(c.e0, c.e1, older);
     velocity_constraints.set_zero(x);
     const double  target = std::max(prm.linear_tolerance * velocity_rhs.l2_norm(), 1e-300);
@@ -674,11 +674,11 @@ namespace twinflow::fem
     });
     velocity_constraints.distribute(x);
     TrilinosWrappers::MPI::Vector change(velocity_owned, comm);
-    change = u_n;
+    velocity_cells.copy_owned(change, u_n);
     change -= x;
     stats.velocity_change = change.linfty_norm();
     u_nm1 = u_n;
-    u_n   = x;
+    velocity_cells.update_ghosted(u_n, x);
     return control.last_step();
   }
 } // namespace twinflow::fem

@@ -86,7 +86,7 @@ namespace twinflow::fem
 
     // The last increment is the guess (the increments of consecutive steps differ by O(τ)).
     TrilinosWrappers::MPI::Vector phi(pressure_owned, comm);
-    phi = phi_n;
+    pressure_cells.copy_owned(phi, phi_n);
     increment_constraints.set_zero(phi);
     const double  target = std::max(prm.linear_tolerance * pressure_rhs.l2_norm(), 1e-300);
     SolverControl control(5000, target);
@@ -95,11 +95,11 @@ namespace twinflow::fem
     increment_constraints.distribute(phi);
 
     TrilinosWrappers::MPI::Vector p(pressure_owned, comm);
-    p = p_n;
+    pressure_cells.copy_owned(p, p_n);
     p += phi;
     phi_nm1 = phi_n;
-    phi_n   = phi;
-    p_n     = p;
+    pressure_cells.update_ghosted(phi_n, phi);
+    pressure_cells.update_ghosted(p_n, p);
     return control.last_step();
   }
 
@@ -111,7 +111,7 @@ namespace twinflow::fem
     TimerOutput::Scope scope(timer_output, "velocity correction");
     // (∇φ, v) = G φ: one product with the matrix of the mesh instead of a cell loop
     TrilinosWrappers::MPI::Vector phi(pressure_owned, comm);
-    phi = phi_n; // the increment just solved for
+    pressure_cells.copy_owned(phi, phi_n); // the increment just solved for
     pressure_gradient.vmult(velocity_rhs, phi);
     // The last step's correction is the guess (δ follows the increment ∇φ, smooth in time).
     TrilinosWrappers::MPI::Vector &delta = last_correction; // sized by setup_dofs()
@@ -122,9 +122,9 @@ namespace twinflow::fem
     if (!momentum_terms.empty())
       u_momentum = u_n;
     TrilinosWrappers::MPI::Vector x(velocity_owned, comm);
-    x = u_n;
+    velocity_cells.copy_owned(x, u_n);
     x.add(-dt / c.a0, delta);
     velocity_constraints.distribute(x);
-    u_n = x;
+    velocity_cells.update_ghosted(u_n, x);
   }
 } // namespace twinflow::fem
