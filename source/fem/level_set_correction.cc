@@ -73,7 +73,7 @@ namespace twinflow::fem
         for (unsigned int e = 0; e < dim; ++e)
           J[e][d] = cell->vertex(1u << d)[e] - cell->vertex(0)[e];
       const Tensor<2, dim> JinvT = transpose(invert(J));
-      const double         h     = LevelSetSpace<dim>::cell_size(cell);
+      const double         h     = space.cell_size(cell);
       {
         Point<dim> centre;
         for (unsigned int d = 0; d < dim; ++d)
@@ -373,7 +373,7 @@ namespace twinflow::fem
         space.reader().gather(cell, correction, u_local);
         fev[scalar].get_function_values_from_local_dof_values(u_local, u_q);
         const double eps   = space.epsilon(cell);
-        const double kappa = prm.correction_diffusion * LevelSetSpace<dim>::cell_size(cell);
+        const double kappa = prm.correction_diffusion * space.cell_size(cell);
         A = 0;
         b = 0;
         // Off the band |φ + u| < ε (δ_ε = 0 at every point) the Jacobian is κK: the stiffness

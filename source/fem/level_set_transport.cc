@@ -3,6 +3,7 @@
 // linear per step (GMRES + ILU).
 #include <twinflow/fem/linear_solve.h>
 #include <twinflow/fem/level_set.h>
+#include <twinflow/fem/vector_field_values.h>
 
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/fe/fe_values.h>
@@ -30,8 +31,10 @@ namespace twinflow::fem
     {
       MidpointVelocity(const NavierStokes<dim> &flow, const Quadrature<dim> &quad)
         : flow(flow)
-        , fvu(flow.get_mapping(), flow.velocity_dof_handler().get_fe(), quad, update_values | update_gradients)
-        , u(quad.size()), u_old(quad.size()), div(quad.size()), div_old(quad.size())
+        , fvu(flow.get_mapping(), flow.velocity_dof_handler().get_fe().base_element(0), quad,
+              update_values | update_gradients)
+        , velocity_values(flow.velocity_dof_handler().get_fe())
+        , u(quad.size()), div(quad.size())
       {}
 
       /// Evaluate on @p cell; returns the velocity cell (for face values).
@@ -39,26 +42,20 @@ namespace twinflow::fem
       {
         const typename DoFHandler<dim>::active_cell_iterator vcell(&cell->get_triangulation(), cell->level(),
                                                                    cell->index(), &flow.velocity_dof_handler());
-        const FEValuesExtractors::Vector vel(0);
         fvu.reinit(vcell);
         flow.velocity_reader().gather(vcell, flow.velocity(), local);
         flow.velocity_reader().gather(vcell, flow.previous_velocity(), local_old);
-        fvu[vel].get_function_values_from_local_dof_values(local, u);
-        fvu[vel].get_function_values_from_local_dof_values(local_old, u_old);
-        fvu[vel].get_function_divergences_from_local_dof_values(local, div);
-        fvu[vel].get_function_divergences_from_local_dof_values(local_old, div_old);
-        for (unsigned int q = 0; q < u.size(); ++q)
-        {
-          u[q]   = 0.5 * (u[q] + u_old[q]);
-          div[q] = 0.5 * (div[q] + div_old[q]);
-        }
+        for (std::size_t i = 0; i < local.size(); ++i) // the midpoint's DoF values (linear)
+          local[i] = 0.5 * (local[i] + local_old[i]);
+        velocity_values.evaluate(fvu, local, u, &div);
         return vcell;
       }
 
       const NavierStokes<dim>    &flow;
-      FEValues<dim>               fvu;
-      std::vector<Tensor<1, dim>> u, u_old; ///< u: the midpoint
-      std::vector<double>         div, div_old;
+      FEValues<dim>               fvu; ///< of the velocity's scalar base element
+      const VectorFieldValues<dim> velocity_values;
+      std::vector<Tensor<1, dim>> u; ///< the midpoint velocity
+      std::vector<double>         div;
       std::vector<double>         local, local_old;
     };
 
@@ -127,7 +124,7 @@ namespace twinflow::fem
       space.reader().gather(cell, current, local_old);
       fev[scalar].get_function_values_from_local_dof_values(local_old, val_old);
       fev[scalar].get_function_gradients_from_local_dof_values(local_old, grad_old);
-      const double h     = LevelSetSpace<dim>::cell_size(cell) / fe.degree;
+      const double h     = space.cell_size(cell) / fe.degree;
       const double nu_K  = nu ? (*nu)[cell->active_cell_index()] : 0.0;
       A = 0;
       b = 0;
@@ -248,7 +245,7 @@ namespace twinflow::fem
       fev.get_function_values(current, v_old);
       fev.get_function_gradients(provisional, g_new);
       fev.get_function_gradients(current, g_old);
-      const double h = LevelSetSpace<dim>::cell_size(cell) / fe.degree;
+      const double h = space.cell_size(cell) / fe.degree;
       double       ratio = 0, speed = 0;
       for (unsigned int q = 0; q < nq; ++q)
       {

@@ -2,6 +2,7 @@
 #pragma once
 #include <twinflow/fem/linear_solve.h>
 #include <twinflow/fem/navier_stokes.h>
+#include <twinflow/fem/vector_field_values.h>
 
 #include <deal.II/base/conditional_ostream.h>
 #include <deal.II/base/quadrature_lib.h>
@@ -391,8 +392,12 @@ namespace twinflow::fem
     velocity_rhs    = 0;
     const double t_new = current_time + dt;
     const QGauss<dim>   quad(fe_velocity.degree + 1);
-    FEValues<dim>       fev(mapping, fe_velocity, quad,
-                            update_values | update_gradients | update_JxW_values | update_quadrature_points);
+    // The momentum is built from the scalar shape functions of the velocity's base element
+    // (fes); the FESystem's values (fev) are computed only on cells where a momentum term acts.
+    const UpdateFlags   flags = update_values | update_gradients | update_JxW_values | update_quadrature_points;
+    FEValues<dim>       fev(mapping, fe_velocity, quad, flags);
+    FEValues<dim>       fes(mapping, fe_velocity.base_element(0), quad, flags);
+    const VectorFieldValues<dim> velocity_values(fe_velocity);
     FEValues<dim>       fep(mapping, fe_pressure, quad, update_values);
     const unsigned int  n  = fe_velocity.n_dofs_per_cell();
     const unsigned int  nq = quad.size();
@@ -418,14 +423,11 @@ namespace twinflow::fem
     std::vector<unsigned int>            comp(n);
     for (unsigned int i = 0; i < n; ++i)
       comp[i] = fe_velocity.system_to_component_index(i).first;
-    // scalar shape functions: base[i] of each vector one, and one vector function per scalar
+    // scalar shape functions: base[i] of each vector one
     const unsigned int        n_scalar = fe_velocity.base_element(0).n_dofs_per_cell();
-    std::vector<unsigned int> base(n), representative(n_scalar);
+    std::vector<unsigned int> base(n);
     for (unsigned int i = 0; i < n; ++i)
-    {
-      base[i]                 = fe_velocity.system_to_component_index(i).second;
-      representative[base[i]] = i;
-    }
+      base[i] = fe_velocity.system_to_component_index(i).second;
     FullMatrix<double>              scalar_block(n_scalar, n_scalar), mass_block(n_scalar, n_scalar), cell_mass(n, n);
     FullMatrix<double>              reference_mass(n_scalar, n_scalar), reference_stiffness(n_scalar, n_scalar);
     bool                            reference_valid = false;
@@ -452,29 +454,25 @@ namespace twinflow::fem
     {
       if (!cell->is_locally_owned())
         continue;
-      fev.reinit(cell);
+      fes.reinit(cell);
       const typename DoFHandler<dim>::active_cell_iterator pcell(&tria, cell->level(), cell->index(), &pressure_dofs);
       fep.reinit(pcell);
       velocity_cells.gather(cell, u_n, local_u);
       velocity_cells.gather(cell, u_nm1, local_u_old);
-      fev[vel].get_function_values_from_local_dof_values(local_u, un);
-      fev[vel].get_function_values_from_local_dof_values(local_u_old, unm1);
-      if (constant) // ½ρ(∇·u*) of the single-phase form
-      {
-        fev[vel].get_function_divergences_from_local_dof_values(local_u, div_un);
-        fev[vel].get_function_divergences_from_local_dof_values(local_u_old, div_unm1);
-      }
+      // ½ρ(∇·u*) of the single-phase form needs the divergences
+      velocity_values.evaluate(fes, local_u, un, constant ? &div_un : nullptr);
+      velocity_values.evaluate(fes, local_u_old, unm1, constant ? &div_unm1 : nullptr);
       for (auto [v, out] : {std::pair{&p_n, &p_val}, {&phi_n, &phi_val}, {&phi_nm1, &phim_val}})
         if (v == &p_n || pressure_w1 != 0) // p^# = p^n when the velocity is corrected
         {
           pressure_cells.gather(pcell, *v, local_p);
           fep[scalar].get_function_values_from_local_dof_values(local_p, *out);
         }
-      material.evaluate(cell, fev.get_quadrature_points(), t_new, mat);
+      material.evaluate(cell, fes.get_quadrature_points(), t_new, mat);
       if (!constant) // ρ^{n+1} at these points, for the pressure projection of this step
         std::copy(mat.density.begin(), mat.density.end(), step_density.begin() + cell->active_cell_index() * nq);
-      if (acceleration) acceleration->vector_value_list(fev.get_quadrature_points(), g_val);
-      if (force_density) force_density->vector_value_list(fev.get_quadrature_points(), f_val);
+      if (acceleration) acceleration->vector_value_list(fes.get_quadrature_points(), g_val);
+      if (force_density) force_density->vector_value_list(fes.get_quadrature_points(), f_val);
       for (unsigned int q = 0; q < nq; ++q)
         u_star[q] = c.e0 * un[q] + c.e1 * unm1[q];
       const double h_cell = cell->diameter() / std::sqrt(double(dim)) / fe_velocity.degree;
@@ -485,10 +483,11 @@ namespace twinflow::fem
       active_terms.clear();
       for (const auto *term : momentum_terms)
         if (term->acts_on(cell))
-        {
           active_terms.push_back(term);
-          term->scale_fluid_fraction(term_cell, fraction);
-        }
+      if (!active_terms.empty())
+        fev.reinit(cell);
+      for (const auto *term : active_terms)
+        term->scale_fluid_fraction(term_cell, fraction);
 
       // The component-blind part of the matrix is one scalar block S_ab (a, b scalar shape
       // functions), the same for every velocity component; the symmetric stress adds the
@@ -510,19 +509,19 @@ namespace twinflow::fem
         uniform = mat.viscosity[q] == mat.viscosity[0] && mat.density[q] == mat.density[0];
       if (uniform)
       {
-        if (!reference_valid || fev.get_cell_similarity() != CellSimilarity::translation)
+        if (!reference_valid || fes.get_cell_similarity() != CellSimilarity::translation)
         {
           reference_mass      = 0;
           reference_stiffness = 0;
           for (unsigned int q = 0; q < nq; ++q)
             for (unsigned int a = 0; a < n_scalar; ++a)
             {
-              const double         sa  = fev.shape_value(representative[a], q) * fev.JxW(q);
-              const Tensor<1, dim> dsa = fev.shape_grad(representative[a], q) * fev.JxW(q);
+              const double         sa  = fes.shape_value(a, q) * fes.JxW(q);
+              const Tensor<1, dim> dsa = fes.shape_grad(a, q) * fes.JxW(q);
               for (unsigned int b = 0; b < n_scalar; ++b)
               {
-                reference_mass(a, b) += sa * fev.shape_value(representative[b], q);
-                reference_stiffness(a, b) += dsa * fev.shape_grad(representative[b], q);
+                reference_mass(a, b) += sa * fes.shape_value(b, q);
+                reference_stiffness(a, b) += dsa * fes.shape_grad(b, q);
               }
             }
           reference_valid = true;
@@ -539,7 +538,7 @@ namespace twinflow::fem
         // Inertia, convection, viscosity and body force act on the fluid fraction w; the
         // pressure gradient everywhere (Section 3.3.1: inside a solid only ∇p and the penalty).
         const double w = fraction[q];
-        const double rho = w * mat.density[q], mu = w * mat.viscosity[q], JxW = fev.JxW(q);
+        const double rho = w * mat.density[q], mu = w * mat.viscosity[q], JxW = fes.JxW(q);
         const double div_star = constant ? c.e0 * div_un[q] + c.e1 * div_unm1[q] : 0.0;
         const double mass = rho * c.a0 / dt + (constant ? 0.5 * rho * div_star : 0.0);
         // σ^{n+1}σ^k: ρ itself for a constant material (√(ρ·ρ) = ρ exactly in IEEE arithmetic)
@@ -561,8 +560,8 @@ namespace twinflow::fem
                                : 0.0;
         for (unsigned int a = 0; a < n_scalar; ++a)
         {
-          s[a]    = fev.shape_value(representative[a], q);
-          ds[a]   = fev.shape_grad(representative[a], q);
+          s[a]    = fes.shape_value(a, q);
+          ds[a]   = fes.shape_grad(a, q);
           conv[a] = u_star[q] * ds[a];
         }
         if (uniform) // skew = ½: ½ρ(s_a conv_b − conv_a s_b) + sd conv_a conv_b
@@ -607,11 +606,16 @@ namespace twinflow::fem
         }
       for (const auto *term : active_terms)
         term->assemble(term_cell, cell_matrix, cell_rhs);
-      cell->get_dof_indices(indices);
       if (!velocity_scatter.ready() || !velocity_scatter.add(cell, cell_matrix, &cell_rhs, &velocity_rhs))
+      {
+        cell->get_dof_indices(indices);
         velocity_constraints.distribute_local_to_global(cell_matrix, cell_rhs, indices, velocity_matrix, velocity_rhs);
+      }
       if (with_mass && (!mass_scatter.ready() || !mass_scatter.add(cell, cell_mass)))
+      {
+        cell->get_dof_indices(indices);
         velocity_constraints.distribute_local_to_global(cell_mass, indices, velocity_mass);
+      }
     }
     velocity_matrix.compress(VectorOperation::add);
     velocity_rhs.compress(VectorOperation::add);

@@ -3,6 +3,7 @@
 #pragma once
 #include <twinflow/fem/linear_solve.h>
 #include <twinflow/fem/navier_stokes.h>
+#include <twinflow/fem/vector_field_values.h>
 
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/fe/fe_values.h>
@@ -26,7 +27,8 @@ namespace twinflow::fem
     const bool variable = velocity_corrected();
     pressure_rhs = 0;
     const QGauss<dim>  quad(fe_velocity.degree + 1);
-    FEValues<dim>      fev(mapping, fe_velocity, quad, update_gradients);
+    FEValues<dim>      fes(mapping, fe_velocity.base_element(0), quad, update_gradients); // ∇·u from the scalar functions
+    const VectorFieldValues<dim> velocity_values(fe_velocity);
     FEValues<dim>      fep(mapping, fe_pressure, quad, update_values | update_gradients | update_JxW_values);
     const unsigned int n = fe_pressure.n_dofs_per_cell();
     Vector<double>     cell_rhs(n);
@@ -34,7 +36,6 @@ namespace twinflow::fem
     std::vector<double> div_u(quad.size());
     std::vector<double> local_u;
     std::vector<types::global_dof_index> indices(n);
-    const FEValuesExtractors::Vector vel(0);
     // ρ^{n+1} at the same points was evaluated by this step's momentum assembly (same
     // quadrature, same level set): no second evaluation of the material.
     AssertThrow(!variable || step_density.size() == tria.n_active_cells() * quad.size(),
@@ -49,9 +50,9 @@ namespace twinflow::fem
       {
         fep.reinit(cell);
         const typename DoFHandler<dim>::active_cell_iterator vcell(&tria, cell->level(), cell->index(), &velocity_dofs);
-        fev.reinit(vcell);
+        fes.reinit(vcell);
         velocity_cells.gather(vcell, u_n, local_u);
-        fev[vel].get_function_divergences_from_local_dof_values(local_u, div_u);
+        velocity_values.divergence(fes, local_u, div_u);
         cell_rhs    = 0;
         cell_matrix = 0;
         const double *density = variable ? &step_density[cell->active_cell_index() * quad.size()] : nullptr;

@@ -116,7 +116,14 @@ namespace twinflow::fem
 
     /// ε of H_ε on a cell.
     double epsilon(const typename dealii::Triangulation<dim>::cell_iterator &cell) const;
-    static double cell_size(const typename dealii::Triangulation<dim>::cell_iterator &cell);
+    /// diameter/√dim of a cell: an active cell's from a table filled per mesh (the cell loops
+    /// of every level-set sub-solver ask for it, and diameter() reads the vertices each time).
+    double cell_size(const typename dealii::Triangulation<dim>::cell_iterator &cell) const
+    {
+      if (cell->is_active() && cell->active_cell_index() < sizes.size())
+        return sizes[cell->active_cell_index()];
+      return cell->diameter() / std::sqrt(double(dim));
+    }
 
     const LevelSetParameters                  &parameters() const { return prm; }
     const dealii::DoFHandler<dim>             &dof_handler() const { return dofs; }
@@ -188,6 +195,7 @@ namespace twinflow::fem
     dealii::DoFHandler<dim>                            dofs;
     dealii::IndexSet                                   owned_dofs, relevant_dofs;
     CellDofReader<dim>                                 cells;
+    std::vector<double>                                sizes; ///< cell_size() by active_cell_index
     dealii::AffineConstraints<double>                  mesh_constraints;
     dealii::DynamicSparsityPattern                     dsp;
     dealii::TrilinosWrappers::MPI::Vector              lumped;
