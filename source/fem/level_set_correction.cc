@@ -51,6 +51,37 @@ namespace twinflow::fem
     std::vector<double>    values(n);
     double                 epsilon_min = std::numeric_limits<double>::max(), epsilon_cut = 0;
     const bool             far_only    = space.parameters().far_field_only; // cut cells keep their φ: no slopes
+    // φ and ∇_ξφ at a reference point: Q1 in closed form (the DoFs are the vertices in
+    // lexicographic order), other degrees through the element (FE_Q::shape_value evaluates
+    // its polynomials afresh on every call: ~10^5 calls per step in the samples' Newton).
+    const auto evaluate = [&](const Point<dim> &xi, double &val, Tensor<1, dim> &g) {
+      val = 0;
+      g   = Tensor<1, dim>();
+      if (fe.degree == 1)
+        for (unsigned int i = 0; i < n; ++i)
+        {
+          double         w = 1;
+          Tensor<1, dim> dw;
+          for (unsigned int e = 0; e < dim; ++e)
+            dw[e] = 1;
+          for (unsigned int d = 0; d < dim; ++d)
+          {
+            const bool   upper  = (i >> d) & 1u;
+            const double factor = upper ? xi[d] : 1 - xi[d];
+            w *= factor;
+            for (unsigned int e = 0; e < dim; ++e)
+              dw[e] *= e == d ? (upper ? 1.0 : -1.0) : factor;
+          }
+          val += values[i] * w;
+          g += values[i] * dw;
+        }
+      else
+        for (unsigned int i = 0; i < n; ++i)
+        {
+          val += values[i] * fe.shape_value(i, xi);
+          g += values[i] * fe.shape_grad(i, xi);
+        }
+    };
     for (const auto &cell : space.dof_handler().active_cell_iterators())
     {
       if (!cell->is_locally_owned())
@@ -79,8 +110,8 @@ namespace twinflow::fem
         for (unsigned int d = 0; d < dim; ++d)
           centre[d] = 0.5;
         Tensor<1, dim> g;
-        for (unsigned int i = 0; i < n; ++i)
-          g += values[i] * fe.shape_grad(i, centre);
+        double         unused;
+        evaluate(centre, unused, g);
         const double slope = (JinvT * g).norm();
         for (unsigned int i = 0; i < n; ++i)
         {
@@ -98,13 +129,7 @@ namespace twinflow::fem
         Tensor<1, dim> g;
         for (unsigned int it = 0; it < 10; ++it)
         {
-          val = 0;
-          g   = Tensor<1, dim>();
-          for (unsigned int i = 0; i < n; ++i)
-          {
-            val += values[i] * fe.shape_value(i, xi);
-            g += values[i] * fe.shape_grad(i, xi);
-          }
+          evaluate(xi, val, g);
           if (g.norm_square() == 0 || std::abs(val) < 1e-13 * h)
             break;
           xi -= val / g.norm_square() * g;
@@ -148,27 +173,38 @@ namespace twinflow::fem
     }
     const auto tree = pack_rtree(leaves);
 
-    TrilinosWrappers::MPI::Vector next;
+    // The node loop reads and writes by local index (owned vectors; the owned entries of φ
+    // copied out of its ghosted storage): Epetra's global look-up per access cost ~1 ms a step.
+    TrilinosWrappers::MPI::Vector next, phi_owned;
     space.reinit_owned(next);
-    const unsigned int k = 1u << dim;
+    space.reinit_owned(phi_owned);
+    space.reader().copy_owned(phi_owned, phi);
+    const int n_owned = next.trilinos_vector().MyLength();
+    AssertThrow(gradient_sum.trilinos_vector().MyLength() == n_owned && cut_count.trilinos_vector().MyLength() == n_owned,
+                ExcMessage("Redistancing: the writable ghosted vectors are expected in the owned layout."));
+    const double *phi_local = phi_owned.trilinos_vector()[0], *slope_sum = gradient_sum.trilinos_vector()[0],
+                 *cuts      = cut_count.trilinos_vector()[0];
+    double            *next_local = next.trilinos_vector()[0];
+    const unsigned int k          = 1u << dim;
     std::vector<std::pair<Point<dim>, unsigned int>> nearest;
     for (const auto &[i, x] : space.support_points())
     {
-      const double old = phi[i];
-      if (far_only && (std::abs(old) < band || cut_count[i] > 0)) // the band and the cut cells keep their φ
+      const auto   j   = space.owned().index_within_set(i);
+      const double old = phi_local[j];
+      if (far_only && (std::abs(old) < band || cuts[j] > 0)) // the band and the cut cells keep their φ
       {
-        next[i] = old;
+        next_local[j] = old;
         continue;
       }
-      if (cut_count[i] > 0)
+      if (cuts[j] > 0)
       {
-        const double slope = gradient_sum[i] / cut_count[i];
-        next[i]            = slope > 0 ? old / slope : old;
+        const double slope = slope_sum[j] / cuts[j];
+        next_local[j]      = slope > 0 ? old / slope : old;
         continue;
       }
       if (!full && std::abs(old) >= near)
       {
-        next[i] = old;
+        next_local[j] = old;
         continue;
       }
       nearest.clear();
@@ -184,9 +220,8 @@ namespace twinflow::fem
         const double         lateral = (r - along * normal).norm();
         d = std::min(d, lateral <= data[s * stride + 2 * dim] ? std::abs(along) : r.norm());
       }
-      next[i] = old > 0 ? d : (old < 0 ? -d : 0.0);
+      next_local[j] = old > 0 ? d : (old < 0 ? -d : 0.0);
     }
-    next.compress(VectorOperation::insert);
     ncls.set(next);
     if (full)
     {
