@@ -246,10 +246,13 @@ namespace twinflow::fem
     rhs.compress(VectorOperation::add);
     TrilinosWrappers::MPI::Vector x;
     reinit_owned(x);
-    for (const auto i : owned_dofs) // lumped projection: the initial guess
-      if (!mesh_constraints.is_constrained(i))
-        x[i] = lumped[i] > 0 ? rhs[i] / lumped[i] : 0;
-    x.compress(VectorOperation::insert);
+    // The lumped projection is the initial guess. Owned vectors share the local order; a
+    // constrained DoF has no own basis function (lumped = 0, rhs = 0) and starts at 0.
+    for (int i = 0; i < x.trilinos_vector().MyLength(); ++i)
+    {
+      const double m          = lumped.trilinos_vector()[0][i];
+      x.trilinos_vector()[0][i] = m > 0 ? rhs.trilinos_vector()[0][i] / m : 0;
+    }
     // CG to 1e-9 of ‖b‖ (the lumped guess is exact where H_ε is constant), then the volume is
     // made exact, ∫θ = Σ_i b_i = ∫H_ε(φ), by restore_integral(), which moves only the partial
     // values θ(1 − θ) of the interface. Solving to 1e-13 for the same volume took ~36 iterations
