@@ -107,8 +107,7 @@ namespace twinflow::fem
     cells.reinit(dofs, owned_dofs, relevant_dofs, comm);
     sizes.assign(tria.n_active_cells(), 0.0);
     for (const auto &cell : tria.active_cell_iterators())
-      if (!cell->is_artificial())
-        sizes[cell->active_cell_index()] = cell->diameter() / std::sqrt(double(dim));
+      sizes[cell->active_cell_index()] = cell->diameter() / std::sqrt(double(dim));
     mesh_constraints.clear();
     mesh_constraints.reinit(relevant_dofs);
     DoFTools::make_hanging_node_constraints(dofs, mesh_constraints);
@@ -261,10 +260,7 @@ namespace twinflow::fem
     SolverCG<TrilinosWrappers::MPI::Vector> cg(control);
     solve_named("level-set L2 projection", control, [&] { cg.solve(mass, x, rhs, mass_preconditioner); });
     mesh_constraints.distribute(x);
-    double local_sum = 0;
-    for (int i = 0; i < rhs.trilinos_vector().MyLength(); ++i)
-      local_sum += rhs.trilinos_vector()[0][i];
-    restore_integral(x, Utilities::MPI::sum(local_sum, comm));
+    restore_integral(x, rhs.mean_value() * rhs.size()); // Σ_i b_i
     cells.assign(theta, x);
   }
 

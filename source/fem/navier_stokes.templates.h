@@ -401,7 +401,6 @@ namespace twinflow::fem
     FEValues<dim>       fep(mapping, fe_pressure, quad, update_values);
     const unsigned int  n  = fe_velocity.n_dofs_per_cell();
     const unsigned int  nq = quad.size();
-    const FEValuesExtractors::Vector vel(0);
     const bool symmetric = prm.viscous_form == ViscousForm::symmetric;
     // Variable ρ (two phases): the √ρ form of the time derivative (Guermond & Quartapelle
     // 2000), σ^{n+1}(α0 σ^{n+1}u^{n+1} + α1 σ^n u^n + α2 σ^{n−1}u^{n−1})/τ with σ = √ρ, and

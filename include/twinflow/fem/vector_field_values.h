@@ -35,40 +35,22 @@ namespace twinflow::fem
           index[c * n_scalar + a] = system.component_to_system_index(c, a);
     }
 
-    /// The base element's number of shape functions.
-    unsigned int scalar_dofs() const { return n_scalar; }
-    /// The system index of scalar function @p a in component @p c.
-    unsigned int system_index(unsigned int c, unsigned int a) const { return index[c * n_scalar + a]; }
-
     /// u(x_q) and, if @p divergence is given, ∇·u(x_q), from the cell's DoF values @p local
     /// (system order), at the points of @p scalar (reinit on the same cell).
     void evaluate(const dealii::FEValues<dim> &scalar, const std::vector<double> &local,
                   std::vector<dealii::Tensor<1, dim>> &value, std::vector<double> *divergence = nullptr) const
     {
       const unsigned int nq = scalar.n_quadrature_points;
-      value.resize(nq);
-      if (divergence)
-        divergence->resize(nq);
+      value.assign(nq, dealii::Tensor<1, dim>());
       for (unsigned int q = 0; q < nq; ++q)
-      {
-        dealii::Tensor<1, dim> u;
-        double                 div = 0;
         for (unsigned int a = 0; a < n_scalar; ++a)
         {
           const double s = scalar.shape_value(a, q);
           for (unsigned int c = 0; c < dim; ++c)
-            u[c] += s * local[index[c * n_scalar + a]];
-          if (divergence)
-          {
-            const dealii::Tensor<1, dim> &g = scalar.shape_grad(a, q);
-            for (unsigned int c = 0; c < dim; ++c)
-              div += g[c] * local[index[c * n_scalar + a]];
-          }
+            value[q][c] += s * local[index[c * n_scalar + a]];
         }
-        value[q] = u;
-        if (divergence)
-          (*divergence)[q] = div;
-      }
+      if (divergence)
+        this->divergence(scalar, local, *divergence);
     }
 
     /// ∇·u(x_q) only.
