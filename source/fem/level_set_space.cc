@@ -4,6 +4,7 @@
 #include <twinflow/fem/linear_solve.h>
 #include <twinflow/fem/immersed_boundary.h>
 #include <twinflow/fem/level_set.h>
+#include <twinflow/fem/vector_field_values.h>
 
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/dofs/dof_tools.h>
@@ -532,8 +533,11 @@ namespace twinflow::fem
     const bool         volume_here = quad.size() == space.nonlinear_quadrature().size() && space.reader().reads(phi);
     if (!volume_here)
       m.water_volume = space.water_volume(phi);
-    FEValues<dim>      fev(flow.get_mapping(), flow.velocity_dof_handler().get_fe(), quad,
-                           update_values | update_JxW_values | update_quadrature_points);
+    // the velocity from one scalar FEValues of its base element (vector_field_values.h)
+    const auto                   &vfe = flow.velocity_dof_handler().get_fe();
+    FEValues<dim>                 fev(flow.get_mapping(), vfe.base_element(0), quad,
+                                      update_values | update_JxW_values | update_quadrature_points);
+    const VectorFieldValues<dim>  velocity_values(vfe);
     FEValues<dim>      fel(space.mapping(), space.fe(), quad, update_values | update_JxW_values);
     double             volume = 0;
     std::vector<Tensor<1, dim>> u(quad.size());
@@ -547,7 +551,7 @@ namespace twinflow::fem
         const auto lcell = space.cell_of(cell);
         fel.reinit(lcell);
         flow.velocity_reader().gather(cell, flow.velocity(), local_u);
-        fev[FEValuesExtractors::Vector(0)].get_function_values_from_local_dof_values(local_u, u);
+        velocity_values.evaluate(fev, local_u, u);
         field_values(space, lcell, phi, fel, local_phi, phi_q);
         const double eps = space.epsilon(cell);
         for (unsigned int q = 0; q < quad.size(); ++q)
@@ -588,15 +592,6 @@ namespace twinflow::fem
         }
       }
     const MPI_Comm comm = space.communicator();
-    m.kinetic_all     = Utilities::MPI::sum(m.kinetic_all, comm);
-    m.potential_all   = Utilities::MPI::sum(m.potential_all, comm);
-    m.kinetic_water   = Utilities::MPI::sum(m.kinetic_water, comm);
-    m.potential_water = Utilities::MPI::sum(m.potential_water, comm);
-    m.x_front         = Utilities::MPI::max(front, comm);
-    m.x_foremost      = Utilities::MPI::max(foremost, comm);
-    m.max_water_speed = Utilities::MPI::max(m.max_water_speed, comm);
-    if (volume_here)
-      m.water_volume = Utilities::MPI::sum(volume, comm);
     // over the local values, ghosts included (each is some rank's owned value)
     double lo = std::numeric_limits<double>::max(), hi = -lo;
     const Epetra_MultiVector &local_values = phi.trilinos_vector();
@@ -605,8 +600,23 @@ namespace twinflow::fem
       lo = std::min(lo, local_values[0][k]);
       hi = std::max(hi, local_values[0][k]);
     }
-    m.phi_min = Utilities::MPI::min(lo, comm);
-    m.phi_max = Utilities::MPI::max(hi, comm);
+    // two reductions for the lot (every monitor is recorded each step)
+    const double local_sums[5]   = {m.kinetic_all, m.potential_all, m.kinetic_water, m.potential_water, volume};
+    const double local_maxima[5] = {front, foremost, m.max_water_speed, -lo, hi};
+    double       sums[5], maxima[5];
+    Utilities::MPI::sum(local_sums, comm, sums);
+    Utilities::MPI::max(local_maxima, comm, maxima);
+    m.kinetic_all     = sums[0];
+    m.potential_all   = sums[1];
+    m.kinetic_water   = sums[2];
+    m.potential_water = sums[3];
+    if (volume_here)
+      m.water_volume = sums[4];
+    m.x_front         = maxima[0];
+    m.x_foremost      = maxima[1];
+    m.max_water_speed = maxima[2];
+    m.phi_min         = -maxima[3];
+    m.phi_max         = maxima[4];
     return m;
   }
 

@@ -593,25 +593,34 @@ namespace twinflow::fem
         for (unsigned int i = 0; i < n; ++i)
           cell_rhs(i) += (rhs[comp[i]] * s[base[i]] + p_sharp * ds[base[i]][comp[i]]) * JxW;
       }
-      for (unsigned int i = 0; i < n; ++i)
-        for (unsigned int j = 0; j < n; ++j)
+      // Without cross-component terms the cell matrix is diag(S, ..., S): its scalar block goes
+      // straight into the matrix (CellScatter::add_blocks); the full matrix is expanded only for
+      // the symmetric stress, other physics' terms, constrained or ghost-row cells.
+      const bool blocks_only = !symmetric && active_terms.empty();
+      if (!(blocks_only && velocity_scatter.ready() &&
+            velocity_scatter.add_blocks(cell, scalar_block, &cell_rhs, &velocity_rhs)))
+      {
+        for (unsigned int i = 0; i < n; ++i)
+          for (unsigned int j = 0; j < n; ++j)
+          {
+            double a = comp[i] == comp[j] ? scalar_block(base[i], base[j]) : 0.0;
+            if (symmetric)
+              a += cross_blocks[comp[i] * dim + comp[j]](base[i], base[j]);
+            cell_matrix(i, j) = a;
+          }
+        for (const auto *term : active_terms)
+          term->assemble(term_cell, cell_matrix, cell_rhs);
+        if (!velocity_scatter.ready() || !velocity_scatter.add(cell, cell_matrix, &cell_rhs, &velocity_rhs))
         {
-          double a = comp[i] == comp[j] ? scalar_block(base[i], base[j]) : 0.0;
-          if (symmetric)
-            a += cross_blocks[comp[i] * dim + comp[j]](base[i], base[j]);
-          cell_matrix(i, j) = a;
-          if (with_mass)
-            cell_mass(i, j) = comp[i] == comp[j] ? mass_block(base[i], base[j]) : 0.0;
+          cell->get_dof_indices(indices);
+          velocity_constraints.distribute_local_to_global(cell_matrix, cell_rhs, indices, velocity_matrix, velocity_rhs);
         }
-      for (const auto *term : active_terms)
-        term->assemble(term_cell, cell_matrix, cell_rhs);
-      if (!velocity_scatter.ready() || !velocity_scatter.add(cell, cell_matrix, &cell_rhs, &velocity_rhs))
-      {
-        cell->get_dof_indices(indices);
-        velocity_constraints.distribute_local_to_global(cell_matrix, cell_rhs, indices, velocity_matrix, velocity_rhs);
       }
-      if (with_mass && (!mass_scatter.ready() || !mass_scatter.add(cell, cell_mass)))
+      if (with_mass && !(mass_scatter.ready() && mass_scatter.add_blocks(cell, mass_block)))
       {
+        for (unsigned int i = 0; i < n; ++i)
+          for (unsigned int j = 0; j < n; ++j)
+            cell_mass(i, j) = comp[i] == comp[j] ? mass_block(base[i], base[j]) : 0.0;
         cell->get_dof_indices(indices);
         velocity_constraints.distribute_local_to_global(cell_mass, indices, velocity_mass);
       }

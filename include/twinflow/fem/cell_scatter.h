@@ -13,6 +13,11 @@
  * Cells with constraints or ghost rows return false from `add`, and the caller takes
  * distribute_local_to_global, so the sum is the same (each entry receives the same cell
  * contributions in the same order). compress(add) is still needed for the ghost rows.
+ *
+ * For a vector element of dim copies of one scalar element whose components do not couple
+ * (the momentum matrix with μ∇u, the L²(ρ) mass), `add_blocks` sums the one scalar block S_ab
+ * into every component's rows: no expansion to the full cell matrix, whose off-diagonal
+ * component blocks are zero and outside the sparsity.
  */
 #include <deal.II/base/exceptions.h>
 #include <deal.II/dofs/dof_handler.h>
@@ -46,6 +51,17 @@ namespace twinflow::fem
       AssertThrow(A.Filled(), dealii::ExcMessage("CellScatter: the matrix's sparsity is not final."));
       const auto &rhs_map = rhs.trilinos_vector().Map();
       per_cell            = dofs.get_fe().n_dofs_per_cell();
+      const auto &fe      = dofs.get_fe();
+      n_scalar            = fe.n_base_elements() == 1 ? fe.base_element(0).n_dofs_per_cell() : 0;
+      component.assign(per_cell, 0);
+      base.assign(per_cell, 0);
+      system.assign(n_scalar > 0 ? fe.n_components() * n_scalar : 0, 0);
+      for (unsigned int i = 0; i < per_cell && n_scalar > 0; ++i)
+      {
+        component[i] = fe.system_to_component_index(i).first;
+        base[i]      = fe.system_to_component_index(i).second;
+        system[component[i] * n_scalar + base[i]] = i;
+      }
       offset.assign(dofs.get_triangulation().n_active_cells(), -1);
       rows.clear(), rhs_entries.clear(), entries.clear();
       std::vector<dealii::types::global_dof_index> indices(per_cell);
@@ -119,8 +135,41 @@ namespace twinflow::fem
       return true;
     }
 
+    /// Adds the block-diagonal cell matrix diag(S, ..., S) (S: @p block, one scalar block per
+    /// component) and @p b, as add() would add the expanded matrix; false as add(). Needs an
+    /// element of copies of one scalar element.
+    template <typename CellIterator>
+    bool add_blocks(const CellIterator &cell, const dealii::FullMatrix<double> &block,
+                    const dealii::Vector<double> *b = nullptr, dealii::TrilinosWrappers::MPI::Vector *rhs = nullptr) const
+    {
+      Assert(n_scalar == block.m() && n_scalar == block.n(),
+             dealii::ExcMessage("CellScatter::add_blocks: the block is not of the scalar element's size."));
+      const long start = offset[cell->active_cell_index()];
+      if (start < 0)
+        return false;
+      for (unsigned int i = 0; i < per_cell; ++i)
+      {
+        double             *values = rows[start + i];
+        const int          *k      = &entries[(start + i) * per_cell];
+        const unsigned int *column = &system[component[i] * n_scalar];
+        const double       *row    = &block(base[i], 0);
+        for (unsigned int j = 0; j < n_scalar; ++j)
+          values[k[column[j]]] += row[j];
+      }
+      if (b != nullptr)
+      {
+        double *data = rhs->trilinos_vector()[0];
+        for (unsigned int i = 0; i < per_cell; ++i)
+          data[rhs_entries[start + i]] += (*b)(i);
+      }
+      return true;
+    }
+
   private:
     unsigned int          per_cell = 0;
+    unsigned int          n_scalar = 0;   ///< DoFs of the scalar base element (0: not one base)
+    std::vector<unsigned int> component, base; ///< of each cell DoF
+    std::vector<unsigned int> system;          ///< cell DoF of (component, base DoF)
     std::vector<long>     offset;      ///< by active_cell_index: first row in rows, −1 if no fast path
     std::vector<double *> rows;        ///< Epetra's value storage of each row of each fast cell
     std::vector<int>      rhs_entries; ///< local index of each row in the right-hand side
