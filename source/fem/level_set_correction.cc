@@ -484,7 +484,11 @@ namespace twinflow::fem
         amg_age = 1;
       }
       delta = 0;
-      SolverControl control(1000, std::max(1e-12 * residual.l2_norm(), 1e-300));
+      // Inexact Newton (forcing term 1e-6, Eisenstat & Walker 1996): the step only has to bring
+      // the residual to where the volume is met to second order; the uniform shift then makes
+      // the volume exact (shift_volume), and a further full step converges at the rate 1e-6.
+      // Solving to 1e-12 took 13 AMG-CG iterations per step for a change of u at 1e-6 of δ.
+      SolverControl control(1000, std::max(1e-6 * residual.l2_norm(), 1e-300));
       SolverCG<TrilinosWrappers::MPI::Vector> cg(control);
       solve_named("mass-correction Newton", control, [&] { cg.solve(jacobian, delta, residual, amg); });
       space.constraints().distribute(delta);
