@@ -154,7 +154,10 @@ namespace twinflow::fem
         const unsigned int *column = &system[component[i] * n_scalar];
         const double       *row    = &block(base[i], 0);
         for (unsigned int j = 0; j < n_scalar; ++j)
+        {
+          Assert(k[column[j]] >= 0, dealii::ExcMessage("CellScatter: a same-component entry outside the sparsity."));
           values[k[column[j]]] += row[j];
+        }
       }
       if (b != nullptr)
       {
