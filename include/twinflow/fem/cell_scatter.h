@@ -126,12 +126,7 @@ namespace twinflow::fem
           else
             Assert(M(i, j) == 0, dealii::ExcMessage("CellScatter: a nonzero outside the sparsity pattern."));
       }
-      if (b != nullptr)
-      {
-        double *data = rhs->trilinos_vector()[0];
-        for (unsigned int i = 0; i < per_cell; ++i)
-          data[rhs_entries[start + i]] += (*b)(i);
-      }
+      add_rhs(start, b, rhs);
       return true;
     }
 
@@ -159,16 +154,21 @@ namespace twinflow::fem
           values[k[column[j]]] += row[j];
         }
       }
-      if (b != nullptr)
-      {
-        double *data = rhs->trilinos_vector()[0];
-        for (unsigned int i = 0; i < per_cell; ++i)
-          data[rhs_entries[start + i]] += (*b)(i);
-      }
+      add_rhs(start, b, rhs);
       return true;
     }
 
   private:
+    /// b into the cell's rows of rhs (nothing when b is null).
+    void add_rhs(const long start, const dealii::Vector<double> *b, dealii::TrilinosWrappers::MPI::Vector *rhs) const
+    {
+      if (b == nullptr)
+        return;
+      double *data = rhs->trilinos_vector()[0];
+      for (unsigned int i = 0; i < per_cell; ++i)
+        data[rhs_entries[start + i]] += (*b)(i);
+    }
+
     unsigned int          per_cell = 0;
     unsigned int          n_scalar = 0;   ///< DoFs of the scalar base element (0: not one base)
     std::vector<unsigned int> component, base; ///< of each cell DoF
