@@ -96,7 +96,39 @@ namespace twinflow::fem
   void InverseDiagonal::vmult(dealii::TrilinosWrappers::MPI::Vector       &dst,
                               const dealii::TrilinosWrappers::MPI::Vector &src) const
   {
-    // Y = 1·D⁻¹.*X + 0·Y, as Ifpack's point Jacobi applies it
-    dst.trilinos_vector().Multiply(1.0, inverse.trilinos_vector(), src.trilinos_vector(), 0.0);
+    // Y = D⁻¹.*X, as Ifpack's point Jacobi applies it, copy by copy
+    const double *d   = inverse.trilinos_vector()[0];
+    const int     n   = inverse.trilinos_vector().MyLength();
+    const int     len = src.trilinos_vector().MyLength();
+    AssertThrow(len == dst.trilinos_vector().MyLength() && (n == 0 ? len == 0 : len % n == 0),
+                dealii::ExcMessage("InverseDiagonal: the vectors are not copies of the matrix's rows"));
+    const double *x = src.trilinos_vector()[0];
+    double       *y = dst.trilinos_vector()[0];
+    for (int b = 0; b < len; b += n)
+      for (int r = 0; r < n; ++r)
+        y[b + r] = d[r] * x[b + r];
+  }
+
+  ComponentBlockMatrix::ComponentBlockMatrix(const dealii::TrilinosWrappers::SparseMatrix &block,
+                                             const unsigned int                            copies)
+    : matrix(block.trilinos_matrix())
+    , copies(copies)
+  {
+    AssertThrow(matrix.Filled() && matrix.DomainMap().SameAs(matrix.RangeMap()),
+                dealii::ExcMessage("ComponentBlockMatrix: the block must be a compressed square matrix"));
+  }
+
+  void ComponentBlockMatrix::vmult(dealii::TrilinosWrappers::MPI::Vector       &dst,
+                                   const dealii::TrilinosWrappers::MPI::Vector &src) const
+  {
+    const int n = matrix.DomainMap().NumMyElements();
+    AssertThrow(src.trilinos_vector().MyLength() == int(copies) * n && dst.trilinos_vector().MyLength() == int(copies) * n,
+                dealii::ExcMessage("ComponentBlockMatrix: the vectors are not " + std::to_string(copies) +
+                                   " copies of the block's rows"));
+    // column c of the views = copy c of the owned part (leading dimension n)
+    Epetra_MultiVector x(View, matrix.DomainMap(), const_cast<double *>(src.trilinos_vector()[0]), n, int(copies));
+    Epetra_MultiVector y(View, matrix.RangeMap(), dst.trilinos_vector()[0], n, int(copies));
+    const int          error = matrix.Multiply(false, x, y);
+    AssertThrow(error == 0, dealii::ExcMessage("ComponentBlockMatrix: Epetra's product failed"));
   }
 } // namespace twinflow::fem

@@ -17,6 +17,8 @@
 #include <deal.II/lac/sparsity_tools.h>
 #include <deal.II/numerics/vector_tools.h>
 
+#include <algorithm>
+
 namespace twinflow::fem
 {
   using namespace dealii;
@@ -131,13 +133,73 @@ namespace twinflow::fem
   }
 
   template <int dim>
+  bool NavierStokes<dim>::use_component_blocks() const
+  {
+    return !symmetric_stress() && momentum_terms.empty() && slip.empty() && prm.velocity_preconditioner == "jacobi";
+  }
+
+  template <int dim>
+  bool NavierStokes<dim>::number_velocity_by_components()
+  {
+    // The velocity DoF of component c at the node that is DoF s of component_dofs becomes
+    // start + c n + (s − s0) on the rank that owns both (n of its nodes, from s0; start of its
+    // velocity DoFs = dim s0): [x of its nodes | y of its nodes | ...], each in the scalar
+    // (Cuthill–McKee) order. Both handlers give a DoF to the same rank (the same rule on the
+    // same cells), which the checks below confirm before anything is renumbered.
+    if (!component_dofs)
+      component_dofs = std::make_unique<DoFHandler<dim>>(tria);
+    component_dofs->distribute_dofs(fe_velocity.base_element(0));
+    DoFRenumbering::Cuthill_McKee(*component_dofs);
+    const IndexSet &vo = velocity_dofs.locally_owned_dofs(), &so = component_dofs->locally_owned_dofs();
+    const types::global_dof_index n = so.n_elements();
+    bool ok = vo.n_elements() == dim * n && vo.is_contiguous() && so.is_contiguous();
+    const types::global_dof_index v0 = n > 0 ? vo.nth_index_in_set(0) : 0, s0 = n > 0 ? so.nth_index_in_set(0) : 0;
+    ok = ok && v0 == dim * s0;
+    std::vector<types::global_dof_index> new_numbers(vo.n_elements(), numbers::invalid_dof_index);
+    const unsigned int n_cell = fe_velocity.n_dofs_per_cell();
+    std::vector<types::global_dof_index> vi(n_cell), si(fe_velocity.base_element(0).n_dofs_per_cell());
+    for (const auto &cell : velocity_dofs.active_cell_iterators())
+      if (ok && cell->is_locally_owned())
+      {
+        cell->get_dof_indices(vi);
+        typename DoFHandler<dim>::active_cell_iterator(&tria, cell->level(), cell->index(), component_dofs.get())
+          ->get_dof_indices(si);
+        for (unsigned int i = 0; i < n_cell && ok; ++i)
+        {
+          const auto [c, b] = fe_velocity.system_to_component_index(i);
+          const bool owned  = vo.is_element(vi[i]);
+          if (owned != so.is_element(si[b]))
+            ok = false;
+          else if (owned)
+          {
+            auto &number = new_numbers[vo.index_within_set(vi[i])];
+            const types::global_dof_index wanted = v0 + c * n + (si[b] - s0);
+            ok = number == numbers::invalid_dof_index || number == wanted;
+            number = wanted;
+          }
+        }
+      }
+    for (const auto number : new_numbers)
+      ok = ok && number != numbers::invalid_dof_index; // (s, c) ↦ number is one-to-one by construction
+    if (Utilities::MPI::min(ok ? 1u : 0u, comm) == 0)
+      return false;
+    velocity_dofs.renumber_dofs(new_numbers);
+    return true;
+  }
+
+  template <int dim>
   void NavierStokes<dim>::setup_dofs()
   {
     TimerOutput::Scope scope(timer_output, "setup");
     force_dofs.clear();
     velocity_dofs.distribute_dofs(fe_velocity);
     pressure_dofs.distribute_dofs(fe_pressure);
-    DoFRenumbering::Cuthill_McKee(velocity_dofs);
+    component_blocks = use_component_blocks() && number_velocity_by_components();
+    if (!component_blocks)
+    {
+      component_dofs.reset();
+      DoFRenumbering::Cuthill_McKee(velocity_dofs);
+    }
     DoFRenumbering::Cuthill_McKee(pressure_dofs);
     velocity_owned = velocity_dofs.locally_owned_dofs();
     pressure_owned = pressure_dofs.locally_owned_dofs();
@@ -167,13 +229,45 @@ namespace twinflow::fem
       SparsityTools::distribute_sparsity_pattern(dsp, velocity_owned, comm, velocity_relevant);
       matrix.reinit(velocity_owned, velocity_owned, dsp, comm);
     };
-    velocity_pattern(symmetric_stress(), velocity_matrix);
-    if (prm.variable_projection)
+    component_scatter.clear();
+    component_mass_scatter.clear();
+    rhs_scatter.clear();
+    if (component_blocks)
     {
-      if (symmetric_stress())
-        velocity_pattern(false, velocity_mass);
-      else
-        velocity_mass.reinit(velocity_matrix); // the same pattern (its values are assembled per step)
+      // One component's constraints: hanging nodes, periodicity and the Dirichlet walls
+      // (homogeneous: the values enter the right-hand side through the vector constraints).
+      IndexSet component_relevant;
+      DoFTools::extract_locally_relevant_dofs(*component_dofs, component_relevant);
+      component_constraints.clear();
+      component_constraints.reinit(component_relevant);
+      DoFTools::make_hanging_node_constraints(*component_dofs, component_constraints);
+      for (const auto &pp : periodic)
+        DoFTools::make_periodicity_constraints(*component_dofs, pp.b1, pp.b2, pp.direction, component_constraints);
+      for (const auto &entry : dirichlet)
+        VectorTools::interpolate_boundary_values(mapping, *component_dofs, entry.first, Functions::ZeroFunction<dim>(),
+                                                 component_constraints);
+      component_constraints.close();
+      DynamicSparsityPattern dsp(component_relevant);
+      DoFTools::make_sparsity_pattern(*component_dofs, dsp, component_constraints, false);
+      SparsityTools::distribute_sparsity_pattern(dsp, component_dofs->locally_owned_dofs(), comm, component_relevant);
+      component_matrix.reinit(component_dofs->locally_owned_dofs(), component_dofs->locally_owned_dofs(), dsp, comm);
+      if (prm.variable_projection)
+        component_mass.reinit(component_matrix);
+      velocity_matrix.clear();
+      velocity_mass.clear();
+    }
+    else
+    {
+      component_matrix.clear();
+      component_mass.clear();
+      velocity_pattern(symmetric_stress(), velocity_matrix);
+      if (prm.variable_projection)
+      {
+        if (symmetric_stress())
+          velocity_pattern(false, velocity_mass);
+        else
+          velocity_mass.reinit(velocity_matrix); // the same pattern (its values are assembled per step)
+      }
     }
     if (velocity_corrected())
       assemble_pressure_gradient();
@@ -341,7 +435,12 @@ namespace twinflow::fem
     const double          t_new = current_time + dt;
     {
       TimerOutput::Scope scope(timer_output, "velocity assembly");
-      make_velocity_constraints(t_new);
+      // Walls at rest (every Dirichlet value a ZeroFunction) keep the constraints of the mesh.
+      const bool fixed = std::all_of(dirichlet.begin(), dirichlet.end(), [](const auto &entry) {
+        return dynamic_cast<const Functions::ZeroFunction<dim> *>(entry.second.get()) != nullptr;
+      });
+      if (!fixed)
+        make_velocity_constraints(t_new);
       assemble_velocity_system(dt, c);
     }
     {
@@ -388,8 +487,11 @@ namespace twinflow::fem
   template <int dim>
   void NavierStokes<dim>::assemble_velocity_system(const double dt, const BdfCoefficients &c)
   {
-    velocity_matrix = 0;
-    velocity_rhs    = 0;
+    AssertThrow(!component_blocks || use_component_blocks(),
+                ExcMessage("Navier-Stokes: a momentum term was added after the DoFs were set up; register "
+                           "momentum terms before setup_dofs()."));
+    (component_blocks ? component_matrix : velocity_matrix) = 0;
+    velocity_rhs = 0;
     const double t_new = current_time + dt;
     const QGauss<dim>   quad(fe_velocity.degree + 1);
     // The momentum is built from the scalar shape functions of the velocity's base element
@@ -440,7 +542,8 @@ namespace twinflow::fem
     // the variable-density correction's L²(ρ^{n+1}) mass: the same ρ, assembled here once
     const bool with_mass = projected;
     if (with_mass)
-      velocity_mass = 0;
+      (component_blocks ? component_mass : velocity_mass) = 0;
+    std::vector<types::global_dof_index> component_indices(component_blocks ? fe_velocity.base_element(0).n_dofs_per_cell() : 0);
     const double pressure_w1 = projected ? 0. : (prm.scheme == TimeScheme::bdf2) ? 4. / 3. : 1.;
     const double pressure_w2 = projected ? 0. : (prm.scheme == TimeScheme::bdf2) ? -1. / 3. : 0.;
     if (acceleration) acceleration->set_time(t_new);
@@ -597,6 +700,31 @@ namespace twinflow::fem
       // straight into the matrix (CellScatter::add_blocks); the full matrix is expanded only for
       // the symmetric stress, other physics' terms, constrained or ghost-row cells.
       const bool blocks_only = !symmetric && active_terms.empty();
+      if (component_blocks)
+      {
+        // S once (component_dofs); the right-hand side per component in the velocity vector,
+        // with the cell matrix for the inhomogeneous constraints where there are constraints
+        const typename DoFHandler<dim>::active_cell_iterator ccell(&tria, cell->level(), cell->index(), component_dofs.get());
+        const bool fast_matrix = component_scatter.ready() && component_scatter.add(ccell, scalar_block);
+        const bool fast_mass   = !with_mass || (component_mass_scatter.ready() && component_mass_scatter.add(ccell, mass_block));
+        if (!fast_matrix || !fast_mass)
+        {
+          ccell->get_dof_indices(component_indices);
+          if (!fast_matrix)
+            component_constraints.distribute_local_to_global(scalar_block, component_indices, component_matrix);
+          if (!fast_mass)
+            component_constraints.distribute_local_to_global(mass_block, component_indices, component_mass);
+        }
+        if (!(rhs_scatter.ready() && rhs_scatter.add_vector(cell, cell_rhs, velocity_rhs)))
+        {
+          for (unsigned int i = 0; i < n; ++i)
+            for (unsigned int j = 0; j < n; ++j)
+              cell_matrix(i, j) = comp[i] == comp[j] ? scalar_block(base[i], base[j]) : 0.0;
+          cell->get_dof_indices(indices);
+          velocity_constraints.distribute_local_to_global(cell_rhs, indices, velocity_rhs, cell_matrix);
+        }
+        continue;
+      }
       if (!(blocks_only && velocity_scatter.ready() &&
             velocity_scatter.add_blocks(cell, scalar_block, &cell_rhs, &velocity_rhs)))
       {
@@ -625,8 +753,23 @@ namespace twinflow::fem
         velocity_constraints.distribute_local_to_global(cell_mass, indices, velocity_mass);
       }
     }
-    velocity_matrix.compress(VectorOperation::add);
     velocity_rhs.compress(VectorOperation::add);
+    if (component_blocks)
+    {
+      component_matrix.compress(VectorOperation::add);
+      if (with_mass)
+        component_mass.compress(VectorOperation::add);
+      if (!component_scatter.ready())
+      {
+        TrilinosWrappers::MPI::Vector component_rhs(component_dofs->locally_owned_dofs(), comm);
+        component_scatter.reinit(*component_dofs, component_constraints, component_matrix, component_rhs);
+        if (with_mass)
+          component_mass_scatter.reinit(*component_dofs, component_constraints, component_mass, component_rhs);
+        rhs_scatter.reinit_vector(velocity_dofs, velocity_constraints, velocity_rhs);
+      }
+      return;
+    }
+    velocity_matrix.compress(VectorOperation::add);
     if (with_mass)
       velocity_mass.compress(VectorOperation::add);
     // the sparsity is final after the first compress on a mesh (CellScatter)
@@ -648,7 +791,7 @@ namespace twinflow::fem
       else if (kind == "ssor")
         velocity_ssor.initialize(velocity_matrix);
       else if (kind == "jacobi")
-        velocity_jacobi.compute(velocity_matrix);
+        velocity_jacobi.compute(component_blocks ? component_matrix : velocity_matrix);
       else
       {
         TrilinosWrappers::PreconditionAMG::AdditionalData amg;
@@ -679,6 +822,8 @@ namespace twinflow::fem
         gmres.solve(velocity_matrix, x, velocity_rhs, velocity_ilu);
       else if (kind == "ssor")
         gmres.solve(velocity_matrix, x, velocity_rhs, velocity_ssor);
+      else if (kind == "jacobi" && component_blocks)
+        gmres.solve(ComponentBlockMatrix(component_matrix, dim), x, velocity_rhs, velocity_jacobi);
       else if (kind == "jacobi")
         gmres.solve(velocity_matrix, x, velocity_rhs, velocity_jacobi);
       else

@@ -116,10 +116,15 @@ namespace twinflow::fem
     pressure_gradient.vmult(velocity_rhs, phi);
     // The last step's correction is the guess (δ follows the increment ∇φ, smooth in time).
     TrilinosWrappers::MPI::Vector &delta = last_correction; // sized by setup_dofs()
-    mass_jacobi.compute(velocity_mass);
+    mass_jacobi.compute(component_blocks ? component_mass : velocity_mass);
     SolverControl control(2000, std::max(prm.linear_tolerance * velocity_rhs.l2_norm(), 1e-300));
     SolverCG<TrilinosWrappers::MPI::Vector> cg(control);
-    solve_named("Navier-Stokes velocity correction", control, [&] { cg.solve(velocity_mass, delta, velocity_rhs, mass_jacobi); });
+    solve_named("Navier-Stokes velocity correction", control, [&] {
+      if (component_blocks)
+        cg.solve(ComponentBlockMatrix(component_mass, dim), delta, velocity_rhs, mass_jacobi);
+      else
+        cg.solve(velocity_mass, delta, velocity_rhs, mass_jacobi);
+    });
     if (!momentum_terms.empty())
       u_momentum = u_n;
     TrilinosWrappers::MPI::Vector x(velocity_owned, comm);

@@ -47,8 +47,33 @@ namespace twinflow::fem
     void reinit(const dealii::DoFHandler<dim> &dofs, const dealii::AffineConstraints<double> &constraints,
                 dealii::TrilinosWrappers::SparseMatrix &matrix, const dealii::TrilinosWrappers::MPI::Vector &rhs)
     {
-      Epetra_CrsMatrix &A = const_cast<Epetra_CrsMatrix &>(matrix.trilinos_matrix());
-      AssertThrow(A.Filled(), dealii::ExcMessage("CellScatter: the matrix's sparsity is not final."));
+      reinit(dofs, constraints, &matrix, rhs);
+    }
+
+    /// For the right-hand side alone (add_vector): a matrix assembled elsewhere.
+    void reinit_vector(const dealii::DoFHandler<dim> &dofs, const dealii::AffineConstraints<double> &constraints,
+                       const dealii::TrilinosWrappers::MPI::Vector &rhs)
+    {
+      reinit(dofs, constraints, nullptr, rhs);
+    }
+    /// rhs += b for a cell of the fast path (reinit_vector or reinit); false otherwise.
+    template <typename CellIterator>
+    bool add_vector(const CellIterator &cell, const dealii::Vector<double> &b,
+                    dealii::TrilinosWrappers::MPI::Vector &rhs) const
+    {
+      const long start = offset[cell->active_cell_index()];
+      if (start < 0)
+        return false;
+      add_rhs(start, &b, &rhs);
+      return true;
+    }
+
+  private:
+    void reinit(const dealii::DoFHandler<dim> &dofs, const dealii::AffineConstraints<double> &constraints,
+                dealii::TrilinosWrappers::SparseMatrix *matrix, const dealii::TrilinosWrappers::MPI::Vector &rhs)
+    {
+      Epetra_CrsMatrix *A = matrix != nullptr ? const_cast<Epetra_CrsMatrix *>(&matrix->trilinos_matrix()) : nullptr;
+      AssertThrow(A == nullptr || A->Filled(), dealii::ExcMessage("CellScatter: the matrix's sparsity is not final."));
       const auto &rhs_map = rhs.trilinos_vector().Map();
       per_cell            = dofs.get_fe().n_dofs_per_cell();
       const auto &fe      = dofs.get_fe();
@@ -76,20 +101,22 @@ namespace twinflow::fem
         for (unsigned int i = 0; i < per_cell; ++i)
         {
           const auto gi  = static_cast<dealii::TrilinosWrappers::types::int_type>(indices[i]);
-          const int  lid = A.RowMap().LID(gi);
+          const int  lid = A != nullptr ? A->RowMap().LID(gi) : 0;
           row_rhs[i]     = rhs_map.LID(gi);
           if (constraints.is_constrained(indices[i]) || lid < 0 || row_rhs[i] < 0)
           {
             fast = false;
             break;
           }
+          if (A == nullptr)
+            continue;
           int     n_entries = 0, *columns = nullptr;
           double *values = nullptr;
-          A.ExtractMyRowView(lid, n_entries, values, columns);
+          A->ExtractMyRowView(lid, n_entries, values, columns);
           row_values[i] = values;
           for (unsigned int j = 0; j < per_cell; ++j)
           {
-            const int c = A.ColMap().LID(static_cast<dealii::TrilinosWrappers::types::int_type>(indices[j]));
+            const int c = A->ColMap().LID(static_cast<dealii::TrilinosWrappers::types::int_type>(indices[j]));
             int       k = 0;
             while (k < n_entries && columns[k] != c)
               ++k;
@@ -100,13 +127,16 @@ namespace twinflow::fem
         }
         if (!fast)
           continue;
-        offset[cell->active_cell_index()] = static_cast<long>(rows.size());
-        rows.insert(rows.end(), row_values.begin(), row_values.end());
+        offset[cell->active_cell_index()] = static_cast<long>(rhs_entries.size());
         rhs_entries.insert(rhs_entries.end(), row_rhs.begin(), row_rhs.end());
+        if (A == nullptr)
+          continue;
+        rows.insert(rows.end(), row_values.begin(), row_values.end());
         entries.insert(entries.end(), row_entries.begin(), row_entries.end());
       }
     }
 
+  public:
     /// Adds @p M (and @p b into @p rhs, when given) for @p cell; false if the cell has no fast
     /// path (constrained DoFs or ghost rows): the caller then distributes it the usual way.
     template <typename CellIterator>
@@ -116,6 +146,7 @@ namespace twinflow::fem
       const long start = offset[cell->active_cell_index()];
       if (start < 0)
         return false;
+      Assert(!rows.empty(), dealii::ExcMessage("CellScatter: set up for a right-hand side only (reinit_vector)."));
       for (unsigned int i = 0; i < per_cell; ++i)
       {
         double    *values = rows[start + i];
@@ -142,6 +173,7 @@ namespace twinflow::fem
       const long start = offset[cell->active_cell_index()];
       if (start < 0)
         return false;
+      Assert(!rows.empty(), dealii::ExcMessage("CellScatter: set up for a right-hand side only (reinit_vector)."));
       for (unsigned int i = 0; i < per_cell; ++i)
       {
         double             *values = rows[start + i];

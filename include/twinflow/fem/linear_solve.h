@@ -98,12 +98,32 @@ namespace twinflow::fem
     void compute(const dealii::TrilinosWrappers::SparseMatrix &matrix);
     /// Forget the diagonal's places (the matrix object or its sparsity changed).
     void clear() { indexed = nullptr; }
-    /// dst = D⁻¹ src.
+    /// dst = D⁻¹ src; src may also be k copies of the matrix's rows one after the other
+    /// (component blocks, see ComponentBlockMatrix): each copy is scaled by D⁻¹.
     void vmult(dealii::TrilinosWrappers::MPI::Vector &dst, const dealii::TrilinosWrappers::MPI::Vector &src) const;
 
   private:
     const Epetra_CrsMatrix               *indexed = nullptr;
     std::vector<int>                      place; ///< of the diagonal in each local row's storage
     dealii::TrilinosWrappers::MPI::Vector inverse;
+  };
+
+  /**
+   * diag(S, …, S): k copies of one square matrix S acting on a vector whose owned part on
+   * each rank is k consecutive pieces, each laid out as S's owned rows (the velocity numbered
+   * by components, NavierStokes::number_velocity_by_components). vmult() views the pieces as
+   * the k columns of an Epetra_MultiVector and forms S X in one product: S is read once for
+   * all k instead of k times (the product is bound by reading the matrix), with the same
+   * result as the k-block matrix.
+   */
+  class ComponentBlockMatrix
+  {
+  public:
+    ComponentBlockMatrix(const dealii::TrilinosWrappers::SparseMatrix &block, unsigned int copies);
+    void vmult(dealii::TrilinosWrappers::MPI::Vector &dst, const dealii::TrilinosWrappers::MPI::Vector &src) const;
+
+  private:
+    const Epetra_CrsMatrix &matrix;
+    const unsigned int      copies;
   };
 } // namespace twinflow::fem

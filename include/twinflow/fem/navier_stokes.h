@@ -184,6 +184,9 @@ namespace twinflow::fem
     const CellDofReader<dim> &velocity_reader() const { return velocity_cells; }
     const CellDofReader<dim> &pressure_reader() const { return pressure_cells; }
     const dealii::TimerOutput &timer() const { return timer_output; }
+    /// Whether the momentum and correction systems are solved as component blocks on this mesh
+    /// (see use_component_blocks()).
+    bool solves_component_blocks() const { return component_blocks; }
     /// Viscous stress form of the momentum equation: true for 2με(u), false for μ∇u.
     bool symmetric_stress() const { return prm.viscous_form == ViscousForm::symmetric; }
     const MaterialModel<dim> &material_model() const { return material; }
@@ -222,6 +225,10 @@ namespace twinflow::fem
     dealii::FESystem<dim>                              fe_velocity;
     dealii::FE_Q<dim>                                  fe_pressure;
     dealii::DoFHandler<dim>                            velocity_dofs, pressure_dofs;
+    /// One velocity component (the scalar base element): the DoFs of the component blocks.
+    /// Exists only while they are used: a DoFHandler without an element on a distributed mesh
+    /// fails in its refinement callbacks.
+    std::unique_ptr<dealii::DoFHandler<dim>>           component_dofs;
     dealii::IndexSet velocity_owned, velocity_relevant, pressure_owned, pressure_relevant;
     CellDofReader<dim> velocity_cells, pressure_cells;
     CellScatter<dim>   velocity_scatter, mass_scatter, pressure_scatter; ///< set up after the first assembly on a mesh
@@ -241,6 +248,22 @@ namespace twinflow::fem
     bool pressure_floating = false;
 
     dealii::TrilinosWrappers::SparseMatrix velocity_matrix, pressure_laplace, velocity_mass;
+    /// Component blocks (use_component_blocks()): the momentum matrix and the L²(ρ) mass are
+    /// diag(S, …, S) with one scalar S on component_dofs; the velocity is numbered so that a
+    /// rank's owned part is its S-rows once per component, and the Krylov solves apply S to all
+    /// components in one product (ComponentBlockMatrix): the matrix is stored, assembled and
+    /// read once instead of dim times. velocity_matrix and velocity_mass stay empty.
+    bool                                   component_blocks = false;
+    dealii::AffineConstraints<double>      component_constraints; ///< of one component (homogeneous)
+    dealii::TrilinosWrappers::SparseMatrix component_matrix, component_mass;
+    CellScatter<dim>                       component_scatter, component_mass_scatter, rhs_scatter;
+    /// Whether this scene's momentum matrix has the component-block form: μ∇u (no symmetric
+    /// stress), no momentum terms (IBM), no slip walls (u·n = 0 constrains one component),
+    /// and the Jacobi preconditioner (the others factor the vector matrix).
+    bool use_component_blocks() const;
+    /// Numbers the velocity DoFs in component blocks of component_dofs' numbering; false (and
+    /// nothing renumbered) if a rank's owned DoFs do not split that way.
+    bool number_velocity_by_components();
     dealii::TrilinosWrappers::SparseMatrix pressure_gradient; ///< see assemble_pressure_gradient()
     dealii::TrilinosWrappers::PreconditionAMG velocity_amg, pressure_amg;
     ReusableIlu                               velocity_ilu; ///< its fill graph kept per mesh
