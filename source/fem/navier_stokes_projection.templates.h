@@ -117,7 +117,7 @@ namespace twinflow::fem
     // The last step's correction is the guess (δ follows the increment ∇φ, smooth in time).
     TrilinosWrappers::MPI::Vector &delta = last_correction; // sized by setup_dofs()
     mass_jacobi.compute(component_blocks ? component_mass : velocity_mass);
-    SolverControl control(2000, std::max(prm.linear_tolerance * velocity_rhs.l2_norm(), 1e-300));
+    SolverControl control(2000, std::max(prm.correction_tolerance * velocity_rhs.l2_norm(), 1e-300));
     SolverCG<TrilinosWrappers::MPI::Vector> cg(control);
     solve_named("Navier-Stokes velocity correction", control, [&] {
       if (component_blocks)

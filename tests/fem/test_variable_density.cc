@@ -167,6 +167,7 @@ TEST(VariableDensity, ComponentBlocksSolveTheVectorSystem)
     prm.linear_tolerance        = 1e-12;
     prm.variable_projection     = true;
     prm.velocity_preconditioner = kind;
+    prm.correction_tolerance    = 1e-12;
     NavierStokes<2> ns(tria, prm, material);
     auto u = std::make_shared<Velocity>();
     ns.set_dirichlet(0, u);

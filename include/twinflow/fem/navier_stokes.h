@@ -54,7 +54,8 @@ namespace twinflow::fem
     unsigned int mapping_degree   = 1;
     TimeScheme   scheme           = TimeScheme::bdf2;
     ViscousForm  viscous_form     = ViscousForm::laplacian;
-    double       linear_tolerance = 1e-10; ///< relative residual of every Krylov solve
+    double       linear_tolerance = 1e-10; ///< relative residual of every Krylov solve but the correction's
+    double       correction_tolerance = 1e-6; ///< relative residual of the velocity correction's CG
     unsigned int amg_rebuild_interval = 1; ///< velocity preconditioner rebuilt every n steps
     std::string  velocity_preconditioner = "amg"; ///< amg | ilu | ssor | jacobi
     double       streamline_diffusion = 0;      ///< c of c τ_K ρ (u*·∇u)(u*·∇v); 0: Galerkin
