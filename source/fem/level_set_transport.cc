@@ -111,7 +111,7 @@ namespace twinflow::fem
     std::vector<types::global_dof_index> indices(n);
     std::vector<Tensor<1, dim>> grad_old(nq), fu_new(face_quad.size()), fu_old(face_quad.size());
     std::vector<double> val_old(nq), fval_old(face_quad.size());
-    std::vector<double> s(n), adv(n);
+    std::vector<double> s(n), adv(n), pw(n), pa(n);
     std::vector<Tensor<1, dim>> ds(n);
     std::vector<double> local_old;
     const FEValuesExtractors::Scalar scalar(0);
@@ -148,18 +148,29 @@ namespace twinflow::fem
         }
         // Strong residual of the old state (explicit half of Crank–Nicolson).
         const double res_old = u * grad_old[q] + div * val_old[q];
+        // Entry (i, j), with the test function w_i = s_i + τ u·∇s_i and b_j = ½(u·∇s_j + div s_j):
+        //   φ (advective): w_i (s_j/Δt + b_j);
+        //   θ (conservative, Galerkin part in divergence form −∫θ u·∇v): w_i s_j/Δt + (u·∇s_i)(τ b_j − ½ s_j);
+        // plus ½ν_K ∇s_i·∇s_j: two rank-one updates per point (pw, pa below).
+        for (unsigned int j = 0; j < n; ++j)
+        {
+          const double b = 0.5 * (adv[j] + div * s[j]);
+          pw[j]          = conservative ? s[j] / dt : s[j] / dt + b;
+          pa[j]          = conservative ? tau * b - 0.5 * s[j] : 0.0;
+        }
         for (unsigned int i = 0; i < n; ++i)
         {
-          const double w = s[i] + tau * adv[i];
-          for (unsigned int j = 0; j < n; ++j)
-          {
-            double a = s[j] / dt * w + 0.5 * nu_K * (ds[i] * ds[j]);
-            if (conservative) // Galerkin part in divergence form: −∫θ u·∇v (conservative)
-              a += -0.5 * s[j] * adv[i] + tau * adv[i] * 0.5 * (adv[j] + div * s[j]);
-            else
-              a += 0.5 * (adv[j] + div * s[j]) * w;
-            A(i, j) += a * JxW;
-          }
+          const double w = s[i] + tau * adv[i], wx = w * JxW, ax = adv[i] * JxW;
+          double      *row = &A(i, 0);
+          if (conservative)
+            for (unsigned int j = 0; j < n; ++j)
+              row[j] += wx * pw[j] + ax * pa[j];
+          else
+            for (unsigned int j = 0; j < n; ++j)
+              row[j] += wx * pw[j];
+          if (nu_K != 0)
+            for (unsigned int j = 0; j < n; ++j)
+              row[j] += 0.5 * nu_K * (ds[i] * ds[j]) * JxW;
           double r = val_old[q] / dt * w - 0.5 * nu_K * (ds[i] * grad_old[q]);
           if (conservative)
             r += 0.5 * val_old[q] * adv[i] - tau * adv[i] * 0.5 * res_old;
