@@ -280,6 +280,7 @@ namespace twinflow::fem
     if (!(prm.variable_projection && !material.is_constant())) // else rebuilt every step
       assemble_pressure_laplacian();
     rebuild_velocity_preconditioner = true;
+    pressure_amg_age                = std::numeric_limits<unsigned int>::max();
     velocity_jacobi.clear();
     velocity_ilu.clear();
     mass_jacobi.clear();

@@ -26,6 +26,13 @@ namespace twinflow::fem
                       "28 % fewer iterations than 1e-8.");
     prm.declare_entry("AMG rebuild interval", "1", Integer(1, 1000),
                       "Rebuild the velocity preconditioner every n steps (it is reused in between).");
+    prm.declare_entry("Pressure AMG interval", "2", Integer(1, 1000),
+                      "The variable-density pressure matrix changes every step: its AMG is set up every n "
+                      "steps (and after every mesh change) and applied to the later matrices in between, whose "
+                      "interface has moved by less than a cell. A solve with a reused AMG that needs more than "
+                      "3x the iterations of the last fresh one + 10 is repeated with a fresh AMG. Dam break: "
+                      "n = 2 keeps 9.0 -> 9.2 CG iterations and saves a third of the projection, n = 3 takes "
+                      "10.4.");
     prm.declare_entry("Pressure projection", "minimum density", Selection("minimum density|variable density"),
                       "Pressure increment of a variable density: -Lap(phi) = -(a0 rho_min/dt) div u (Guermond & "
                       "Salgado 2009, the paper's Eq. 16; mesh-only matrix) or -div(grad(phi)/rho) = -(a0/dt) div u "
@@ -50,6 +57,7 @@ namespace twinflow::fem
     linear_tolerance     = prm.get_double("Linear solver tolerance");
     correction_tolerance = prm.get_double("Velocity correction tolerance");
     amg_rebuild_interval = prm.get_integer("AMG rebuild interval");
+    pressure_amg_interval = prm.get_integer("Pressure AMG interval");
     velocity_preconditioner = prm.get("Velocity preconditioner");
     streamline_diffusion    = prm.get_double("Streamline diffusion");
     variable_projection     = prm.get("Pressure projection") == "variable density";

@@ -53,6 +53,27 @@ namespace twinflow::fem
     }
   }
 
+  /// As solve_named(), but a solve that does not converge within @p control's limit returns
+  /// false instead of failing (the caller retries, e.g. with a fresh preconditioner). The
+  /// iterations are counted either way.
+  template <typename Solve>
+  bool try_solve_named(const std::string &system, const dealii::SolverControl &control, Solve &&solve)
+  {
+    bool converged = true;
+    try
+    {
+      solve();
+    }
+    catch (const dealii::SolverControl::NoConvergence &)
+    {
+      converged = false;
+    }
+    auto &c = linear_solve_counts()[system];
+    ++c.calls;
+    c.iterations += control.last_step();
+    return converged;
+  }
+
   /**
    * Sets @p amg up for @p matrix with the settings of @p data, as PreconditionAMG::initialize
    * does, but with ML's validation of the parameter list turned off: ML checks every entry of

@@ -37,6 +37,7 @@
 #include <deal.II/numerics/data_out.h>
 
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <memory>
 #include <string>
@@ -57,6 +58,7 @@ namespace twinflow::fem
     double       linear_tolerance = 1e-10; ///< relative residual of every Krylov solve but the correction's
     double       correction_tolerance = 1e-6; ///< relative residual of the velocity correction's CG
     unsigned int amg_rebuild_interval = 1; ///< velocity preconditioner rebuilt every n steps
+    unsigned int pressure_amg_interval = 2; ///< variable-density pressure AMG set up every n steps
     std::string  velocity_preconditioner = "amg"; ///< amg | ilu | ssor | jacobi
     double       streamline_diffusion = 0;      ///< c of c τ_K ρ (u*·∇u)(u*·∇v); 0: Galerkin
     bool         variable_projection  = false;  ///< −∇·(ρ⁻¹∇φ) instead of −χΔφ, χ = ρ_min
@@ -289,6 +291,10 @@ namespace twinflow::fem
     using Transfer = dealii::parallel::distributed::SolutionTransfer<dim, dealii::TrilinosWrappers::MPI::Vector>;
     std::unique_ptr<Transfer> velocity_transfer, pressure_transfer;
     bool                      rebuild_velocity_preconditioner = true;
+    /// Steps the variable-density pressure AMG has been applied to later matrices (see
+    /// solve_pressure_increment); pressure_amg_interval or more: set it up for this step's.
+    unsigned int              pressure_amg_age = std::numeric_limits<unsigned int>::max();
+    unsigned int              fresh_pressure_iterations = 0; ///< CG iterations of the last solve with a fresh AMG
 
     StepStatistics           stats;
     dealii::ConditionalOStream  silent_stream{std::cout, false};
