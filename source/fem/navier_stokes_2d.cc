@@ -1,5 +1,6 @@
 // Explicit instantiation of NavierStokes<2> (split per dimension to keep builds parallel).
 #include "navier_stokes.templates.h"
+#include "navier_stokes_momentum.templates.h"
 #include "navier_stokes_postprocess.templates.h"
 #include "navier_stokes_projection.templates.h"
 #include "navier_stokes_transfer.templates.h"

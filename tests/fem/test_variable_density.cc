@@ -70,6 +70,26 @@ namespace
     }
   };
 
+  /// The manufactured problem on @p tria with @p prm, started from the exact state and
+  /// stepped @p n times by @p dt; @p inspect gets the solver and the exact u and p at the end.
+  template <typename Inspect>
+  void run_manufactured(parallel::distributed::Triangulation<2> &tria, const NavierStokesParameters &prm,
+                        const double dt, const unsigned int n, Inspect inspect)
+  {
+    const bool          bdf2 = prm.scheme == TimeScheme::bdf2;
+    FunctionMaterial<2> material(std::make_shared<Density>(), 1.0, 2 - std::sqrt(2.0), 0.0, bdf2 ? -dt : 0.0);
+    NavierStokes<2>     ns(tria, prm, material);
+    auto u = std::make_shared<Velocity>();
+    ns.set_dirichlet(0, u);
+    ns.set_force_density(std::make_shared<Forcing>());
+    ns.setup();
+    Pressure p;
+    ns.initialize(*u, p, 0.0, bdf2 ? u.get() : nullptr, dt);
+    for (unsigned int s = 0; s < n; ++s)
+      ns.step(dt);
+    inspect(ns, *u, p);
+  }
+
   struct Outcome
   {
     TrilinosWrappers::MPI::Vector u, p;
@@ -88,38 +108,29 @@ namespace
       tria.refine_global(3);
       const unsigned int n  = 10u << k;
       const double       dt = 1.0 / n;
-      FunctionMaterial<2>    material(std::make_shared<Density>(), 1.0, 2 - std::sqrt(2.0), 0.0,
-                                      scheme == TimeScheme::bdf2 ? -dt : 0.0);
       NavierStokesParameters prm;
       prm.scheme           = scheme;
       prm.mapping_degree   = 2;
       prm.linear_tolerance = 1e-12;
-      NavierStokes<2> ns(tria, prm, material);
-      auto u = std::make_shared<Velocity>();
-      ns.set_dirichlet(0, u);
-      ns.set_force_density(std::make_shared<Forcing>());
-      ns.setup();
-      Pressure     p;
-      ns.initialize(*u, p, 0.0, scheme == TimeScheme::bdf2 ? u.get() : nullptr, dt);
-      for (unsigned int s = 0; s < n; ++s)
-        ns.step(dt);
-      const auto e = ns.l2_errors(*u, p);
-      us.push_back(owned_copy(ns.velocity_dof_handler(), ns.velocity()));
-      ps.push_back(owned_copy(ns.pressure_dof_handler(), ns.pressure()));
-      if (k > 0)
-      {
-        TrilinosWrappers::MPI::Vector a(us[k]), b(ps[k]);
-        a -= us[k - 1];
-        b -= ps[k - 1];
-        b.add(-b.mean_value());
-        du.push_back(l2_norm(ns.get_mapping(), ns.velocity_dof_handler(), a));
-        dp.push_back(l2_norm(ns.get_mapping(), ns.pressure_dof_handler(), b));
-      }
-      pout << "variable density " << (scheme == TimeScheme::bdf1 ? "BDF1" : "BDF2") << ": dt = " << dt
-           << "  |u - u_exact| = " << e.first << "  |p - p_exact| = " << e.second;
-      if (k > 0)
-        pout << "  |u_dt - u_dt/2| = " << du.back() << "  |p_dt - p_dt/2| = " << dp.back();
-      pout << std::endl;
+      run_manufactured(tria, prm, dt, n, [&](const NavierStokes<2> &ns, const Velocity &u, const Pressure &p) {
+        const auto e = ns.l2_errors(u, p);
+        us.push_back(owned_copy(ns.velocity_dof_handler(), ns.velocity()));
+        ps.push_back(owned_copy(ns.pressure_dof_handler(), ns.pressure()));
+        if (k > 0)
+        {
+          TrilinosWrappers::MPI::Vector a(us[k]), b(ps[k]);
+          a -= us[k - 1];
+          b -= ps[k - 1];
+          b.add(-b.mean_value());
+          du.push_back(l2_norm(ns.get_mapping(), ns.velocity_dof_handler(), a));
+          dp.push_back(l2_norm(ns.get_mapping(), ns.pressure_dof_handler(), b));
+        }
+        pout << "variable density " << (scheme == TimeScheme::bdf1 ? "BDF1" : "BDF2") << ": dt = " << dt
+             << "  |u - u_exact| = " << e.first << "  |p - p_exact| = " << e.second;
+        if (k > 0)
+          pout << "  |u_dt - u_dt/2| = " << du.back() << "  |p_dt - p_dt/2| = " << dp.back();
+        pout << std::endl;
+      });
     }
     const double ru = rate(du[1], du[2]), rp = rate(dp[1], dp[2]);
     pout << "  temporal rates: velocity " << ru << "  pressure " << rp << std::endl;
@@ -160,30 +171,21 @@ TEST(VariableDensity, ComponentBlocksSolveTheVectorSystem)
       if (cell->is_locally_owned() && cell->center()[0] > 0 && cell->center()[1] > 0)
         cell->set_refine_flag();
     tria.execute_coarsening_and_refinement();
-    const double           dt = 0.05;
-    FunctionMaterial<2>    material(std::make_shared<Density>(), 1.0, 2 - std::sqrt(2.0), 0.0, -dt);
     NavierStokesParameters prm;
     prm.mapping_degree          = 2;
     prm.linear_tolerance        = 1e-12;
     prm.variable_projection     = true;
     prm.velocity_preconditioner = kind;
     prm.correction_tolerance    = 1e-12;
-    NavierStokes<2> ns(tria, prm, material);
-    auto u = std::make_shared<Velocity>();
-    ns.set_dirichlet(0, u);
-    ns.set_force_density(std::make_shared<Forcing>());
-    ns.setup();
-    ASSERT_TRUE(ns.velocity_corrected());
-    EXPECT_EQ(ns.solves_component_blocks(), kind == "jacobi");
-    Pressure p;
-    ns.initialize(*u, p, 0.0, u.get(), dt);
-    for (unsigned int s = 0; s < 10; ++s)
-      ns.step(dt);
-    const auto e = ns.l2_errors(*u, p);
-    result[kind] = {e.first, e.second, ns.kinetic_energy(), ns.max_velocity()};
-    pout << "component blocks " << (kind == "jacobi" ? "on " : "off") << ": |u - u_exact| = " << e.first
-         << "  |p - p_exact| = " << e.second << "  kinetic energy = " << ns.kinetic_energy()
-         << "  max |u| = " << ns.max_velocity() << std::endl;
+    run_manufactured(tria, prm, 0.05, 10, [&](const NavierStokes<2> &ns, const Velocity &u, const Pressure &p) {
+      EXPECT_TRUE(ns.velocity_corrected());
+      EXPECT_EQ(ns.solves_component_blocks(), kind == "jacobi");
+      const auto e = ns.l2_errors(u, p);
+      result[kind] = {e.first, e.second, ns.kinetic_energy(), ns.max_velocity()};
+      pout << "component blocks " << (kind == "jacobi" ? "on " : "off") << ": |u - u_exact| = " << e.first
+           << "  |p - p_exact| = " << e.second << "  kinetic energy = " << ns.kinetic_energy()
+           << "  max |u| = " << ns.max_velocity() << std::endl;
+    });
   }
   for (unsigned int k = 0; k < 4; ++k)
     EXPECT_NEAR(result["jacobi"][k], result["ssor"][k], 1e-7 * std::abs(result["ssor"][k])) << "quantity " << k;
@@ -200,25 +202,16 @@ TEST(VariableDensity, ReusedPressureAmgSolvesTheSameSystem)
     parallel::distributed::Triangulation<2> tria(MPI_COMM_WORLD);
     GridGenerator::hyper_ball(tria);
     tria.refine_global(3);
-    const double           dt = 0.05;
-    FunctionMaterial<2>    material(std::make_shared<Density>(), 1.0, 2 - std::sqrt(2.0), 0.0, -dt);
     NavierStokesParameters prm;
     prm.mapping_degree        = 2;
     prm.linear_tolerance      = 1e-12;
     prm.correction_tolerance  = 1e-12;
     prm.variable_projection   = true;
     prm.pressure_amg_interval = interval;
-    NavierStokes<2> ns(tria, prm, material);
-    auto u = std::make_shared<Velocity>();
-    ns.set_dirichlet(0, u);
-    ns.set_force_density(std::make_shared<Forcing>());
-    ns.setup();
-    Pressure p;
-    ns.initialize(*u, p, 0.0, u.get(), dt);
-    for (unsigned int s = 0; s < 9; ++s)
-      ns.step(dt);
-    const auto e = ns.l2_errors(*u, p);
-    result[interval] = {e.first, e.second, ns.kinetic_energy()};
+    run_manufactured(tria, prm, 0.05, 9, [&](const NavierStokes<2> &ns, const Velocity &u, const Pressure &p) {
+      const auto e = ns.l2_errors(u, p);
+      result[interval] = {e.first, e.second, ns.kinetic_energy()};
+    });
   }
   for (unsigned int k = 0; k < 3; ++k)
     EXPECT_NEAR(result[3][k], result[1][k], 1e-7 * std::abs(result[1][k])) << "quantity " << k;
