@@ -288,6 +288,28 @@ namespace twinflow::fem
   // ---------------------------------------------------------------------------------------
   // Mass correction
   // ---------------------------------------------------------------------------------------
+  namespace
+  {
+    /// dst = src for two matrices built from the same sparsity pattern and maps (the rows'
+    /// storage is then the same): a copy of the values, without the graph.
+    void copy_values(const TrilinosWrappers::SparseMatrix &src, TrilinosWrappers::SparseMatrix &dst)
+    {
+      const Epetra_CrsMatrix &a = src.trilinos_matrix();
+      Epetra_CrsMatrix       &b = const_cast<Epetra_CrsMatrix &>(dst.trilinos_matrix());
+      AssertThrow(a.NumMyRows() == b.NumMyRows() && a.NumMyNonzeros() == b.NumMyNonzeros(),
+                  ExcMessage("copy_values: the matrices do not share one sparsity pattern."));
+      for (int row = 0; row < a.NumMyRows(); ++row)
+      {
+        int     na = 0, nb = 0, *ca = nullptr, *cb = nullptr;
+        double *va = nullptr, *vb = nullptr;
+        a.ExtractMyRowView(row, na, va, ca);
+        b.ExtractMyRowView(row, nb, vb, cb);
+        Assert(na == nb && std::equal(ca, ca + na, cb), ExcInternalError());
+        std::copy(va, va + na, vb);
+      }
+    }
+  } // namespace
+
   template <int dim>
   void MassCorrection<dim>::setup_dofs()
   {
@@ -296,6 +318,7 @@ namespace twinflow::fem
     space.reinit_ghosted(correction);
     amg_age = amg_lifetime; // a new mesh: a new hierarchy at the next correction
     domain  = 0;
+    points_ready = false; // the points and the diffusion matrix at the next correction
   }
 
   template <int dim>
@@ -306,28 +329,73 @@ namespace twinflow::fem
   }
 
   template <int dim>
+  void MassCorrection<dim>::setup_points()
+  {
+    const auto        &fe   = space.fe();
+    const QGauss<dim>  quad = space.nonlinear_quadrature();
+    FEValues<dim>      fev(space.mapping(), fe, quad, update_gradients | update_JxW_values);
+    const unsigned int n = fe.n_dofs_per_cell(), nq = quad.size();
+    points.cells.clear(), points.eps.clear(), points.JxW.clear();
+    points.shape.reinit(n, nq);
+    for (unsigned int i = 0; i < n; ++i)
+      for (unsigned int q = 0; q < nq; ++q)
+        points.shape(i, q) = fe.shape_value(i, quad.point(q));
+    diffusion.reinit(space.owned(), space.owned(), space.sparsity(), space.communicator());
+    FullMatrix<double>                   stiffness(n, n);
+    std::vector<types::global_dof_index> indices(n);
+    for (const auto &cell : space.dof_handler().active_cell_iterators())
+    {
+      if (!cell->is_locally_owned())
+        continue;
+      fev.reinit(cell);
+      points.cells.push_back(cell);
+      points.eps.push_back(space.epsilon(cell));
+      const double kappa = space.parameters().correction_diffusion * space.cell_size(cell);
+      stiffness          = 0;
+      for (unsigned int q = 0; q < nq; ++q)
+      {
+        points.JxW.push_back(fev.JxW(q));
+        for (unsigned int i = 0; i < n; ++i)
+          for (unsigned int j = 0; j < n; ++j)
+            stiffness(i, j) += kappa * (fev.shape_grad(i, q) * fev.shape_grad(j, q)) * fev.JxW(q);
+      }
+      cell->get_dof_indices(indices);
+      space.constraints().distribute_local_to_global(stiffness, indices, diffusion);
+    }
+    diffusion.compress(VectorOperation::add);
+    jacobian_scatter.reinit(space.dof_handler(), space.constraints(), jacobian, correction_moments);
+  }
+
+  template <int dim>
   void MassCorrection<dim>::correct()
   {
     TimerOutput::Scope scope(space.timer(), "mass correction");
-    const auto        &prm  = space.parameters();
-    const auto        &fe   = space.fe();
-    const QGauss<dim>  quad = space.nonlinear_quadrature();
-    FEValues<dim>      fev(space.mapping(), fe, quad, update_values | update_gradients | update_JxW_values);
-    const unsigned int n  = fe.n_dofs_per_cell();
-    const unsigned int nq = quad.size();
-    FullMatrix<double> A(n, n), stiffness(n, n);
-    Vector<double>     b(n);
-    std::vector<types::global_dof_index> indices(n);
-    std::vector<double>         phi_q(nq), theta_q(nq), u_q(nq);
-    std::vector<Tensor<1, dim>> grad_u(nq);
-    std::vector<double>         local, u_local;
-    const FEValuesExtractors::Scalar scalar(0);
-    const MPI_Comm comm = space.communicator();
-    if (domain == 0) // once per mesh
+    const auto        &prm = space.parameters();
+    const unsigned int n   = space.fe().n_dofs_per_cell();
+    const MPI_Comm     comm = space.communicator();
+    if (!points_ready) // once per mesh
     {
+      points_ready = true;
+      space.reinit_owned(correction_moments);
+      setup_points();
       for (const auto i : space.owned())
         domain += space.lumped_mass()[i];
       domain = Utilities::MPI::sum(domain, comm);
+    }
+    const unsigned int nq = points.shape.n();
+    FullMatrix<double> A(n, n);
+    Vector<double>     b(n);
+    std::vector<types::global_dof_index> indices(n);
+    std::vector<double>                  u_q(nq), local, u_local;
+    // φ and θ at the points: fixed through the correction
+    points.phi.resize(points.JxW.size());
+    points.theta.resize(points.JxW.size());
+    for (std::size_t k = 0; k < points.cells.size(); ++k)
+    {
+      points.evaluate(space.reader(), k, ncls.value(), local, u_q);
+      std::copy(u_q.begin(), u_q.end(), points.phi.begin() + k * nq);
+      points.evaluate(space.reader(), k, vof.value(), local, u_q);
+      std::copy(u_q.begin(), u_q.end(), points.theta.begin() + k * nq);
     }
 
     TrilinosWrappers::MPI::Vector u_owned, residual, delta;
@@ -345,23 +413,16 @@ namespace twinflow::fem
     const auto shift_volume = [&]() -> bool {
       band.clear();
       double m0 = 0;
-      for (const auto &cell : space.dof_handler().active_cell_iterators())
+      for (std::size_t k = 0; k < points.cells.size(); ++k)
       {
-        if (!cell->is_locally_owned())
-          continue;
-        fev.reinit(cell);
-        for (auto [v, out] : {std::pair{&ncls.value(), &phi_q}, {&vof.value(), &theta_q}, {&correction, &u_q}})
+        const double eps = points.eps[k];
+        points.evaluate(space.reader(), k, correction, u_local, u_q);
+        for (unsigned int q = 0, p = k * nq; q < nq; ++q, ++p)
         {
-          space.reader().gather(cell, *v, local);
-          fev[scalar].get_function_values_from_local_dof_values(local, *out);
-        }
-        const double eps = space.epsilon(cell);
-        for (unsigned int q = 0; q < nq; ++q)
-        {
-          const double s = phi_q[q] + u_q[q];
-          m0 += (smoothed_heaviside(s, eps) - theta_q[q]) * fev.JxW(q);
+          const double s = points.phi[p] + u_q[q];
+          m0 += (smoothed_heaviside(s, eps) - points.theta[p]) * points.JxW[p];
           if (std::abs(s) < 2 * eps)
-            band.push_back({s, eps, fev.JxW(q)});
+            band.push_back({s, eps, points.JxW[p]});
         }
       }
       double mismatch = Utilities::MPI::sum(m0, comm);
@@ -398,83 +459,62 @@ namespace twinflow::fem
       // uniform shift finishes it without assembling a Jacobian (see shift_volume).
       if (newton > 0 && shift_volume())
         break;
-      jacobian = 0;
-      residual = 0;
-      double mismatch        = 0;
-      bool   stiffness_valid = false;
-      for (const auto &cell : space.dof_handler().active_cell_iterators())
+      // The Jacobian κK + ∫δ_ε(φ + u) ψ_i ψ_j: the mesh's diffusion (setup_points) plus the
+      // mass of the band |φ + u| < ε, the only cells assembled; the residual
+      // −∫(H_ε(φ + u) − θ) ψ_i − κ(Ku)_i, whose diffusion part vanishes on the first iteration (u = 0).
+      copy_values(diffusion, jacobian);
+      if (newton == 0)
+        residual = 0;
+      else
       {
-        if (!cell->is_locally_owned())
-          continue;
-        fev.reinit(cell);
-        for (auto [v, out] : {std::pair{&ncls.value(), &phi_q}, {&vof.value(), &theta_q}})
-        {
-          space.reader().gather(cell, *v, local);
-          fev[scalar].get_function_values_from_local_dof_values(local, *out);
-        }
-        space.reader().gather(cell, correction, u_local);
-        fev[scalar].get_function_values_from_local_dof_values(u_local, u_q);
-        const double eps   = space.epsilon(cell);
-        const double kappa = prm.correction_diffusion * space.cell_size(cell);
-        A = 0;
-        b = 0;
-        // Off the band |φ + u| < ε (δ_ε = 0 at every point) the Jacobian is κK: the stiffness
-        // K_ij = ∫∇s_i·∇s_j, which a translated cell shares with the previous one (deal.II's
-        // cell similarity), and the diffusion part of the residual is κ K u_K.
-        bool in_band = false;
-        for (unsigned int q = 0; q < nq && !in_band; ++q)
-          in_band = std::abs(phi_q[q] + u_q[q]) < eps;
-        if (!in_band)
-        {
-          if (!stiffness_valid || fev.get_cell_similarity() != CellSimilarity::translation)
-          {
-            stiffness = 0;
-            for (unsigned int q = 0; q < nq; ++q)
-              for (unsigned int i = 0; i < n; ++i)
-                for (unsigned int j = 0; j < n; ++j)
-                  stiffness(i, j) += fev.shape_grad(i, q) * fev.shape_grad(j, q) * fev.JxW(q);
-            stiffness_valid = true;
-          }
-          for (unsigned int q = 0; q < nq; ++q)
-          {
-            const double r = smoothed_heaviside(phi_q[q] + u_q[q], eps) - theta_q[q];
-            mismatch += r * fev.JxW(q);
-            for (unsigned int i = 0; i < n; ++i)
-              b(i) -= r * fev.shape_value(i, q) * fev.JxW(q);
-          }
-          A.add(kappa, stiffness);
-          for (unsigned int i = 0; i < n; ++i)
-            for (unsigned int j = 0; j < n; ++j)
-              b(i) -= A(i, j) * u_local[j];
-        }
+        diffusion.vmult(residual, u_owned);
+        residual *= -1;
+        space.constraints().set_zero(residual);
+      }
+      double mismatch = 0;
+      for (std::size_t k = 0; k < points.cells.size(); ++k)
+      {
+        const auto  &cell = points.cells[k];
+        const double eps  = points.eps[k];
+        if (newton == 0)
+          std::fill(u_q.begin(), u_q.end(), 0.0);
         else
+          points.evaluate(space.reader(), k, correction, u_local, u_q);
+        b            = 0;
+        bool in_band = false;
+        for (unsigned int q = 0, p = k * nq; q < nq; ++q, ++p)
         {
-          stiffness_valid = false; // the next cell off the band computes K again
-          fev[scalar].get_function_gradients_from_local_dof_values(u_local, grad_u);
-        }
-        for (unsigned int q = 0; in_band && q < nq; ++q)
-        {
-          const double JxW = fev.JxW(q);
-          const double r   = smoothed_heaviside(phi_q[q] + u_q[q], eps) - theta_q[q];
-          const double dH  = smoothed_delta(phi_q[q] + u_q[q], eps);
-          mismatch += r * JxW;
+          const double s = points.phi[p] + u_q[q];
+          const double r = (smoothed_heaviside(s, eps) - points.theta[p]) * points.JxW[p];
+          mismatch += r;
           for (unsigned int i = 0; i < n; ++i)
+            b(i) -= r * points.shape(i, q);
+          in_band = in_band || std::abs(s) < eps;
+        }
+        if (in_band)
+        {
+          A = 0;
+          for (unsigned int q = 0, p = k * nq; q < nq; ++q, ++p)
           {
-            const double         si  = fev.shape_value(i, q);
-            const Tensor<1, dim> dsi = fev.shape_grad(i, q);
-            b(i) -= (r * si + kappa * (grad_u[q] * dsi)) * JxW;
-            for (unsigned int j = 0; j < n; ++j)
-              A(i, j) += (dH * si * fev.shape_value(j, q) + kappa * (dsi * fev.shape_grad(j, q))) * JxW;
+            const double dH = smoothed_delta(points.phi[p] + u_q[q], eps) * points.JxW[p];
+            for (unsigned int i = 0; i < n && dH != 0; ++i)
+              for (unsigned int j = 0; j < n; ++j)
+                A(i, j) += dH * points.shape(i, q) * points.shape(j, q);
+          }
+          if (!jacobian_scatter.add(cell, A, &b, &residual))
+          {
+            cell->get_dof_indices(indices);
+            space.constraints().distribute_local_to_global(A, b, indices, jacobian, residual);
           }
         }
-        cell->get_dof_indices(indices);
-        if (!jacobian_scatter.ready() || !jacobian_scatter.add(cell, A, &b, &residual))
-          space.constraints().distribute_local_to_global(A, b, indices, jacobian, residual);
+        else if (!jacobian_scatter.add_vector(cell, b, residual))
+        {
+          cell->get_dof_indices(indices);
+          space.constraints().distribute_local_to_global(b, indices, residual);
+        }
       }
       jacobian.compress(VectorOperation::add);
       residual.compress(VectorOperation::add);
-      if (!jacobian_scatter.ready())
-        jacobian_scatter.reinit(space.dof_handler(), space.constraints(), jacobian, residual);
       mismatch = Utilities::MPI::sum(mismatch, comm);
       // The volume constraint (the equation tested with v = 1) is met once Newton has moved.
       if (newton == 0 && std::abs(mismatch) < prm.correction_tolerance * domain && residual.linfty_norm() == 0)
@@ -485,7 +525,7 @@ namespace twinflow::fem
         // and CG still converges to the same tolerance with an older one's hierarchy.
         TrilinosWrappers::PreconditionAMG::AdditionalData data;
         data.elliptic              = true;
-        data.higher_order_elements = fe.degree > 1;
+        data.higher_order_elements = space.fe().degree > 1;
         data.smoother_sweeps       = 2;
         initialize_amg(amg, jacobian, data);
         amg_age = 1;
@@ -513,9 +553,31 @@ namespace twinflow::fem
     space.reader().assign(phi, ncls.value());
     phi += u_owned;
     ncls.set(phi);
-    TrilinosWrappers::MPI::Vector theta;
+    // θ = the L² projection of H_ε(φ + u), its moments at the cached points (φ + u there is
+    // the corrected φ at the points: both are linear in the nodal values)
+    TrilinosWrappers::MPI::Vector moments, theta;
+    space.reinit_owned(moments);
     space.reinit_ghosted(theta);
-    space.project_heaviside(ncls.value(), theta);
+    Vector<double> cell_moments(n);
+    for (std::size_t k = 0; k < points.cells.size(); ++k)
+    {
+      const double eps = points.eps[k];
+      points.evaluate(space.reader(), k, correction, u_local, u_q);
+      cell_moments = 0;
+      for (unsigned int q = 0, p = k * nq; q < nq; ++q, ++p)
+      {
+        const double h = smoothed_heaviside(points.phi[p] + u_q[q], eps) * points.JxW[p];
+        for (unsigned int i = 0; i < n; ++i)
+          cell_moments(i) += h * points.shape(i, q);
+      }
+      if (!jacobian_scatter.add_vector(points.cells[k], cell_moments, moments))
+      {
+        points.cells[k]->get_dof_indices(indices);
+        space.constraints().distribute_local_to_global(cell_moments, indices, moments);
+      }
+    }
+    moments.compress(VectorOperation::add);
+    space.project_moments(moments, theta);
     vof.set(theta);
   }
 

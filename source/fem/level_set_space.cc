@@ -244,6 +244,13 @@ namespace twinflow::fem
         mesh_constraints.distribute_local_to_global(local, indices, rhs);
       }
     rhs.compress(VectorOperation::add);
+    project_moments(rhs, theta);
+  }
+
+  template <int dim>
+  void LevelSetSpace<dim>::project_moments(const TrilinosWrappers::MPI::Vector &rhs,
+                                           TrilinosWrappers::MPI::Vector       &theta) const
+  {
     TrilinosWrappers::MPI::Vector x;
     reinit_owned(x);
     // The lumped projection is the initial guess. Owned vectors share the local order; a
