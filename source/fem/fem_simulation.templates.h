@@ -567,7 +567,10 @@ namespace twinflow::fem
     io::ProgressReporter progress(t0, scene.end_time, std::cout, comm, 2.0);
     bool steady = false;
     if (scene.output_interval > 0 && ns.n_steps() == 0)
+    {
+      TimerOutput::Scope scope(run_timer, "output");
       write_output();
+    }
     if (ls_space && ns.n_steps() == 0)
       record_free_surface(0, 0);
     if (ls_space && !scene.snapshot_times.empty())
@@ -598,12 +601,19 @@ namespace twinflow::fem
         throw std::runtime_error("FEM solution diverged at t = " + std::to_string(ns.time()) + " (step " +
                                  std::to_string(ns.n_steps()) + "): reduce FEM/Time step or FEM/CFL number. "
                                  "Monitors written so far are kept in " + dir);
-      record(dt, st.divergence_l2);
+      {
+        TimerOutput::Scope scope(run_timer, "monitors");
+        record(dt, st.divergence_l2);
+      }
       if (snapshots)
         for (const double s : snapshots->due(ns.time()))
+        {
+          TimerOutput::Scope scope(run_timer, "output");
           write_snapshot(s);
+        }
       if (scene.output_interval > 0 && ns.time() >= next_output * (1 - 1e-9))
       {
+        TimerOutput::Scope scope(run_timer, "output");
         write_output();
         next_output += scene.output_interval;
       }
@@ -612,6 +622,7 @@ namespace twinflow::fem
       // Last in the step: a restart continues with exactly the state the next step sees.
       if (prm.checkpoint_interval > 0 && ns.time() >= next_checkpoint * (1 - 1e-9))
       {
+        TimerOutput::Scope scope(run_timer, "output");
         write_checkpoint(dir + "/checkpoint");
         next_checkpoint += prm.checkpoint_interval;
       }
@@ -628,7 +639,10 @@ namespace twinflow::fem
     }
     progress.finish(steady ? "steady state reached" : "");
     if (scene.output_interval == 0)
+    {
+      TimerOutput::Scope scope(run_timer, "output");
       write_output();
+    }
     result.steps      = ns.n_steps();
     result.final_time = ns.time();
     result.wall_time  = wall.wall_time();

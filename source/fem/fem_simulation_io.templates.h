@@ -285,6 +285,7 @@ namespace twinflow::fem
     summary.set_final_time(result.final_time);
     summary.set_wall_time(result.wall_time);
     summary.set_timer_sections(ns.timer());
+    summary.set_timer_sections(run_timer);
     if (ls_space)
     {
       summary.set_timer_sections(ls_space->timer());

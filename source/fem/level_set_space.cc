@@ -106,6 +106,7 @@ namespace twinflow::fem
     owned_dofs = dofs.locally_owned_dofs();
     DoFTools::extract_locally_relevant_dofs(dofs, relevant_dofs);
     cells.reinit(dofs, owned_dofs, relevant_dofs, comm);
+    measures.valid = false;
     sizes.assign(tria.n_active_cells(), 0.0);
     for (const auto &cell : tria.active_cell_iterators())
       sizes[cell->active_cell_index()] = cell->diameter() / std::sqrt(double(dim));
@@ -537,67 +538,119 @@ namespace twinflow::fem
     // Energies on the velocity quadrature; the water volume in the same loop when it is the
     // level set's own rule (Q2/Q1: both Gauss 3), else by LevelSetSpace::water_volume.
     const QGauss<dim>  quad(flow.velocity_dof_handler().get_fe().degree + 1);
-    const bool         volume_here = quad.size() == space.nonlinear_quadrature().size() && space.reader().reads(phi);
+    const unsigned int nq          = quad.size();
+    const bool         volume_here = nq == space.nonlinear_quadrature().size() && space.reader().reads(phi);
     if (!volume_here)
       m.water_volume = space.water_volume(phi);
-    // the velocity from one scalar FEValues of its base element (vector_field_values.h)
-    const auto                   &vfe = flow.velocity_dof_handler().get_fe();
-    FEValues<dim>                 fev(flow.get_mapping(), vfe.base_element(0), quad,
-                                      update_values | update_JxW_values | update_quadrature_points);
-    const VectorFieldValues<dim>  velocity_values(vfe);
-    FEValues<dim>      fel(space.mapping(), space.fe(), quad, update_values | update_JxW_values);
-    double             volume = 0;
-    std::vector<Tensor<1, dim>> u(quad.size());
-    std::vector<double>         phi_q(quad.size()), local_u, local_phi;
-    double front = -std::numeric_limits<double>::max(), foremost = front;
-    const double tol = 1e-9 * (1 + std::abs(floor_height));
-    for (const auto &cell : flow.velocity_dof_handler().active_cell_iterators())
-      if (cell->is_locally_owned())
-      {
-        fev.reinit(cell);
-        const auto lcell = space.cell_of(cell);
-        fel.reinit(lcell);
-        flow.velocity_reader().gather(cell, flow.velocity(), local_u);
-        velocity_values.evaluate(fev, local_u, u);
-        field_values(space, lcell, phi, fel, local_phi, phi_q);
-        const double eps = space.epsilon(cell);
-        for (unsigned int q = 0; q < quad.size(); ++q)
+    const auto &vfe = flow.velocity_dof_handler().get_fe();
+    auto       &table = space.measure_table();
+    if (!table.valid || table.gravity != gravity || table.shape_u.n() != nq)
+    {
+      table = typename LevelSetSpace<dim>::MeasureTable();
+      table.gravity = gravity;
+      FEValues<dim> fev(flow.get_mapping(), vfe.base_element(0), quad, update_JxW_values | update_quadrature_points);
+      FEValues<dim> fel(space.mapping(), space.fe(), quad, update_JxW_values);
+      const double  tol = 1e-9 * (1 + std::abs(floor_height));
+      for (const auto &cell : flow.velocity_dof_handler().active_cell_iterators())
+        if (cell->is_locally_owned())
         {
-          const double H   = smoothed_heaviside(phi_q[q], eps);
-          volume += (1 - H) * fel.JxW(q);
-          const double rho = fluids.rho_water + (fluids.rho_air - fluids.rho_water) * H;
-          const double w   = fluids.rho_water * (1 - H);
-          const double ek  = 0.5 * u[q].norm_square() * fev.JxW(q);
-          const double ep  = -(gravity * fev.quadrature_point(q)) * fev.JxW(q);
-          m.kinetic_all += rho * ek;
-          m.potential_all += rho * ep;
-          m.kinetic_water += w * ek;
-          m.potential_water += w * ep;
-          if (phi_q[q] < 0)
-            m.max_water_speed = std::max(m.max_water_speed, u[q].norm());
-        }
-        // Fronts: along every cell edge, the largest x with φ < 0 (linear between vertices;
-        // FE_Q numbers the vertex DoFs first, in the cell's vertex order).
-        for (unsigned int l = 0; l < GeometryInfo<dim>::lines_per_cell; ++l)
-        {
-          const unsigned int va = GeometryInfo<dim>::line_to_cell_vertices(l, 0),
-                             vb = GeometryInfo<dim>::line_to_cell_vertices(l, 1);
-          const double       a = local_phi[va], b = local_phi[vb];
-          const Point<dim>   pa = lcell->vertex(va), pb = lcell->vertex(vb);
-          double x = -std::numeric_limits<double>::max();
-          if (a < 0 && b < 0)
-            x = std::max(pa[0], pb[0]);
-          else if (a < 0 || b < 0)
+          fev.reinit(cell);
+          const auto lcell = space.cell_of(cell);
+          fel.reinit(lcell);
+          table.velocity_cells.push_back(cell);
+          table.cells.push_back(lcell);
+          for (unsigned int q = 0; q < nq; ++q)
           {
-            const double s = a / (a - b); // zero crossing
-            const double xc = pa[0] + s * (pb[0] - pa[0]);
-            x = std::max(xc, a < 0 ? pa[0] : pb[0]);
+            table.JxW.push_back(fev.JxW(q));
+            table.JxW_volume.push_back(fel.JxW(q));
+            table.height.push_back(-(gravity * fev.quadrature_point(q)));
           }
-          foremost = std::max(foremost, x);
-          if (std::abs(pa[1] - floor_height) < tol && std::abs(pb[1] - floor_height) < tol)
-            front = std::max(front, x);
+          unsigned int floor = 0;
+          for (unsigned int v = 0; v < GeometryInfo<dim>::vertices_per_cell; ++v)
+            table.vertex_x.push_back(lcell->vertex(v)[0]);
+          for (unsigned int l = 0; l < GeometryInfo<dim>::lines_per_cell; ++l)
+          {
+            const Point<dim> pa = lcell->vertex(GeometryInfo<dim>::line_to_cell_vertices(l, 0)),
+                             pb = lcell->vertex(GeometryInfo<dim>::line_to_cell_vertices(l, 1));
+            if (std::abs(pa[1] - floor_height) < tol && std::abs(pb[1] - floor_height) < tol)
+              floor |= 1u << l;
+          }
+          table.floor_lines.push_back(floor);
         }
+      for (auto [fe, shape] : {std::pair{&vfe.base_element(0), &table.shape_u}, {&space.fe(), &table.shape_phi}})
+      {
+        shape->reinit(fe->n_dofs_per_cell(), nq);
+        for (unsigned int a = 0; a < fe->n_dofs_per_cell(); ++a)
+          for (unsigned int q = 0; q < nq; ++q)
+            (*shape)(a, q) = fe->shape_value(a, quad.point(q));
       }
+      table.valid = true;
+    }
+    const VectorFieldValues<dim> velocity_values(vfe);
+    double                       volume = 0;
+    std::vector<Tensor<1, dim>>  u(nq);
+    std::vector<double>          phi_q(nq), local_u, local_phi;
+    const unsigned int           n_vertices = GeometryInfo<dim>::vertices_per_cell;
+    double front = -std::numeric_limits<double>::max(), foremost = front;
+    for (std::size_t k = 0; k < table.cells.size(); ++k)
+    {
+      const auto &lcell = table.cells[k];
+      flow.velocity_reader().gather(table.velocity_cells[k], flow.velocity(), local_u);
+      velocity_values.evaluate(table.shape_u, local_u, u);
+      if (space.reader().reads(phi))
+        space.reader().gather(lcell, phi, local_phi);
+      else
+      {
+        local_phi.resize(space.fe().n_dofs_per_cell());
+        lcell->get_dof_values(phi, local_phi.begin(), local_phi.end());
+      }
+      for (unsigned int q = 0; q < nq; ++q)
+      {
+        double v = 0;
+        for (unsigned int a = 0; a < local_phi.size(); ++a)
+          v += table.shape_phi(a, q) * local_phi[a];
+        phi_q[q] = v;
+      }
+      const double eps = space.epsilon(lcell);
+      for (unsigned int q = 0, p = k * nq; q < nq; ++q, ++p)
+      {
+        const double H   = smoothed_heaviside(phi_q[q], eps);
+        volume += (1 - H) * table.JxW_volume[p];
+        const double rho = fluids.rho_water + (fluids.rho_air - fluids.rho_water) * H;
+        const double w   = fluids.rho_water * (1 - H);
+        const double ek  = 0.5 * u[q].norm_square() * table.JxW[p];
+        const double ep  = table.height[p] * table.JxW[p];
+        m.kinetic_all += rho * ek;
+        m.potential_all += rho * ep;
+        m.kinetic_water += w * ek;
+        m.potential_water += w * ep;
+        if (phi_q[q] < 0)
+          m.max_water_speed = std::max(m.max_water_speed, u[q].norm());
+      }
+      // Fronts: along every cell edge, the largest x with φ < 0 (linear between vertices;
+      // FE_Q numbers the vertex DoFs first, in the cell's vertex order).
+      const double *vx = &table.vertex_x[k * n_vertices];
+      if (*std::min_element(local_phi.begin(), local_phi.begin() + n_vertices) >= 0)
+        continue; // no water at a vertex: no edge is wetted
+      for (unsigned int l = 0; l < GeometryInfo<dim>::lines_per_cell; ++l)
+      {
+        const unsigned int va = GeometryInfo<dim>::line_to_cell_vertices(l, 0),
+                           vb = GeometryInfo<dim>::line_to_cell_vertices(l, 1);
+        const double       a = local_phi[va], b = local_phi[vb];
+        double x = -std::numeric_limits<double>::max();
+        if (a < 0 && b < 0)
+          x = std::max(vx[va], vx[vb]);
+        else if (a < 0 || b < 0)
+        {
+          const double s  = a / (a - b); // zero crossing
+          const double xc = vx[va] + s * (vx[vb] - vx[va]);
+          x = std::max(xc, a < 0 ? vx[va] : vx[vb]);
+        }
+        foremost = std::max(foremost, x);
+        if (table.floor_lines[k] & (1u << l))
+          front = std::max(front, x);
+      }
+    }
     const MPI_Comm comm = space.communicator();
     // over the local values, ghosts included (each is some rank's owned value)
     double lo = std::numeric_limits<double>::max(), hi = -lo;

@@ -209,9 +209,11 @@ namespace twinflow::fem
               }
             }
           }
-      cell->get_dof_indices(indices);
       if (!scatter.ready() || !scatter.add(cell, A, &b, &rhs))
+      {
+        cell->get_dof_indices(indices);
         space.constraints().distribute_local_to_global(A, b, indices, matrix, rhs);
+      }
     }
     matrix.compress(VectorOperation::add);
     rhs.compress(VectorOperation::add);

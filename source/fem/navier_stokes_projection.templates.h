@@ -32,7 +32,8 @@ namespace twinflow::fem
     FEValues<dim>      fep(mapping, fe_pressure, quad, update_values | update_gradients | update_JxW_values);
     const unsigned int n = fe_pressure.n_dofs_per_cell();
     Vector<double>     cell_rhs(n);
-    FullMatrix<double> cell_matrix(n, n);
+    FullMatrix<double> cell_matrix(n, n), stiffness(n, n);
+    bool               stiffness_valid = false;
     std::vector<double> div_u(quad.size());
     std::vector<double> local_u;
     std::vector<types::global_dof_index> indices(n);
@@ -61,19 +62,41 @@ namespace twinflow::fem
           div_sq += div_u[q] * div_u[q] * fep.JxW(q);
           for (unsigned int i = 0; i < n; ++i)
             cell_rhs(i) += factor * div_u[q] * fep.shape_value(i, q) * fep.JxW(q);
-          if (variable)
+        }
+        // ρ̄ of a cell is one value (the two-phase material's cell mean): K_ab/ρ̄ with the
+        // stiffness K, which a translated cell shares with the previous one (cell similarity)
+        bool uniform = variable;
+        for (unsigned int q = 1; q < quad.size() && uniform; ++q)
+          uniform = density[q] == density[0];
+        if (uniform && (!stiffness_valid || fep.get_cell_similarity() != CellSimilarity::translation))
+        {
+          stiffness = 0;
+          for (unsigned int q = 0; q < quad.size(); ++q)
+            for (unsigned int i = 0; i < n; ++i)
+              for (unsigned int j = 0; j < n; ++j)
+                stiffness(i, j) += fep.shape_grad(i, q) * fep.shape_grad(j, q) * fep.JxW(q);
+        }
+        stiffness_valid = uniform;
+        if (uniform)
+          cell_matrix.add(1.0 / density[0], stiffness);
+        else if (variable)
+          for (unsigned int q = 0; q < quad.size(); ++q)
             for (unsigned int i = 0; i < n; ++i)
               for (unsigned int j = 0; j < n; ++j)
                 cell_matrix(i, j) += fep.shape_grad(i, q) * fep.shape_grad(j, q) / density[q] * fep.JxW(q);
-        }
-        cell->get_dof_indices(indices);
         if (variable)
         {
           if (!pressure_scatter.ready() || !pressure_scatter.add(cell, cell_matrix, &cell_rhs, &pressure_rhs))
+          {
+            cell->get_dof_indices(indices);
             increment_constraints.distribute_local_to_global(cell_matrix, cell_rhs, indices, pressure_laplace, pressure_rhs);
+          }
         }
         else
+        {
+          cell->get_dof_indices(indices);
           increment_constraints.distribute_local_to_global(cell_rhs, indices, pressure_rhs);
+        }
       }
     pressure_rhs.compress(VectorOperation::add);
     if (variable)

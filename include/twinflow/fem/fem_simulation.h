@@ -14,7 +14,9 @@
 #include <twinflow/io/body_monitor.h>
 #include <twinflow/solids/coupling.h>
 
+#include <deal.II/base/conditional_ostream.h>
 #include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/timer.h>
 #include <deal.II/distributed/tria.h>
 
 #include <array>
@@ -167,6 +169,10 @@ namespace twinflow::fem
     double                          next_output = 0, next_checkpoint = 0, coefficient_scale = 0;
     double                          h_min = 0; ///< smallest cell diameter of the current mesh
     FemRunResult                    result;
+    /// The run's own work beside the physics (monitors every step, VTU/snapshot/checkpoint
+    /// output), reported with the sub-solvers' sections in the summary.
+    dealii::ConditionalOStream      silent{std::cout, false};
+    mutable dealii::TimerOutput     run_timer{silent, dealii::TimerOutput::never, dealii::TimerOutput::wall_times};
   };
 
   /// Runs @p scene with the FEM on MPI_COMM_WORLD, writing into @p output_directory.

@@ -14,6 +14,7 @@
 #include <deal.II/base/tensor.h>
 #include <deal.II/fe/fe.h>
 #include <deal.II/fe/fe_values.h>
+#include <deal.II/lac/full_matrix.h>
 
 #include <vector>
 
@@ -51,6 +52,19 @@ namespace twinflow::fem
         }
       if (divergence)
         this->divergence(scalar, local, *divergence);
+    }
+
+    /// u(x_q) from the values of the scalar shape functions at the points, @p shape(a, q) (a
+    /// table of the reference cell: FE_Q's values do not depend on the cell).
+    void evaluate(const dealii::FullMatrix<double> &shape, const std::vector<double> &local,
+                  std::vector<dealii::Tensor<1, dim>> &value) const
+    {
+      AssertDimension(shape.m(), n_scalar);
+      value.assign(shape.n(), dealii::Tensor<1, dim>());
+      for (unsigned int q = 0; q < shape.n(); ++q)
+        for (unsigned int a = 0; a < n_scalar; ++a)
+          for (unsigned int c = 0; c < dim; ++c)
+            value[q][c] += shape(a, q) * local[index[c * n_scalar + a]];
     }
 
     /// ∇·u(x_q) only.
