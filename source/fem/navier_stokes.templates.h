@@ -192,6 +192,10 @@ namespace twinflow::fem
   {
     TimerOutput::Scope scope(timer_output, "setup");
     force_dofs.clear();
+    cell_sizes.assign(tria.n_active_cells(), 0.0);
+    for (const auto &cell : tria.active_cell_iterators())
+      if (cell->is_locally_owned())
+        cell_sizes[cell->active_cell_index()] = cell->diameter() / std::sqrt(double(dim));
     velocity_dofs.distribute_dofs(fe_velocity);
     pressure_dofs.distribute_dofs(fe_pressure);
     component_blocks = use_component_blocks() && number_velocity_by_components();

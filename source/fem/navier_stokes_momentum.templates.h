@@ -111,7 +111,7 @@ namespace twinflow::fem
       if (force_density) force_density->vector_value_list(fes.get_quadrature_points(), f_val);
       for (unsigned int q = 0; q < nq; ++q)
         u_star[q] = c.e0 * un[q] + c.e1 * unm1[q];
-      const double h_cell = cell->diameter() / std::sqrt(double(dim)) / fe_velocity.degree;
+      const double h_cell = cell_sizes[cell->active_cell_index()] / fe_velocity.degree;
 
       // Other physics' terms on this cell (IBM, ...) and the fluid fraction they leave.
       const MomentumCell<dim> term_cell{cell, fev, comp, u_star, mat, symmetric, t_new, dt};

@@ -181,7 +181,7 @@ TEST(VariableDensity, ComponentBlocksSolveTheVectorSystem)
       EXPECT_TRUE(ns.velocity_corrected());
       EXPECT_EQ(ns.solves_component_blocks(), kind == "jacobi");
       const auto e = ns.l2_errors(u, p);
-      result[kind] = {e.first, e.second, ns.kinetic_energy(), ns.max_velocity()};
+      result[kind] = {{e.first, e.second, ns.kinetic_energy(), ns.max_velocity()}};
       pout << "component blocks " << (kind == "jacobi" ? "on " : "off") << ": |u - u_exact| = " << e.first
            << "  |p - p_exact| = " << e.second << "  kinetic energy = " << ns.kinetic_energy()
            << "  max |u| = " << ns.max_velocity() << std::endl;
@@ -210,7 +210,7 @@ TEST(VariableDensity, ReusedPressureAmgSolvesTheSameSystem)
     prm.pressure_amg_interval = interval;
     run_manufactured(tria, prm, 0.05, 9, [&](const NavierStokes<2> &ns, const Velocity &u, const Pressure &p) {
       const auto e = ns.l2_errors(u, p);
-      result[interval] = {e.first, e.second, ns.kinetic_energy()};
+      result[interval] = {{e.first, e.second, ns.kinetic_energy()}};
     });
   }
   for (unsigned int k = 0; k < 3; ++k)

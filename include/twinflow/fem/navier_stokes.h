@@ -238,6 +238,9 @@ namespace twinflow::fem
     /// ρ^{n+1} at the momentum assembly's quadrature points of each active cell (two phases):
     /// written by the assembly, read by the pressure projection of the same step.
     std::vector<double> step_density;
+    /// diameter/√dim of the owned active cells (by active_cell_index), per mesh: diameter()
+    /// reads the vertices on every call (0.4 % of a dam-break step in the momentum assembly)
+    std::vector<double> cell_sizes;
 
     std::map<dealii::types::boundary_id, std::shared_ptr<dealii::Function<dim>>> dirichlet;
     std::map<dealii::types::boundary_id, unsigned int> slip; ///< face → its normal axis
