@@ -336,10 +336,7 @@ namespace twinflow::fem
     FEValues<dim>      fev(space.mapping(), fe, quad, update_gradients | update_JxW_values);
     const unsigned int n = fe.n_dofs_per_cell(), nq = quad.size();
     points.cells.clear(), points.eps.clear(), points.JxW.clear();
-    points.shape.reinit(n, nq);
-    for (unsigned int i = 0; i < n; ++i)
-      for (unsigned int q = 0; q < nq; ++q)
-        points.shape(i, q) = fe.shape_value(i, quad.point(q));
+    points.shape = reference_shape_values(fe, quad);
     diffusion.reinit(space.owned(), space.owned(), space.sparsity(), space.communicator());
     FullMatrix<double>                   stiffness(n, n);
     std::vector<types::global_dof_index> indices(n);
@@ -363,7 +360,9 @@ namespace twinflow::fem
       space.constraints().distribute_local_to_global(stiffness, indices, diffusion);
     }
     diffusion.compress(VectorOperation::add);
-    jacobian_scatter.reinit(space.dof_handler(), space.constraints(), jacobian, correction_moments);
+    TrilinosWrappers::MPI::Vector owned_layout; // the rows' places in an owned vector of the space
+    space.reinit_owned(owned_layout);
+    jacobian_scatter.reinit(space.dof_handler(), space.constraints(), jacobian, owned_layout);
   }
 
   template <int dim>
@@ -376,7 +375,6 @@ namespace twinflow::fem
     if (!points_ready) // once per mesh
     {
       points_ready = true;
-      space.reinit_owned(correction_moments);
       setup_points();
       for (const auto i : space.owned())
         domain += space.lumped_mass()[i];

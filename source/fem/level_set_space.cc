@@ -577,13 +577,8 @@ namespace twinflow::fem
           }
           table.floor_lines.push_back(floor);
         }
-      for (auto [fe, shape] : {std::pair{&vfe.base_element(0), &table.shape_u}, {&space.fe(), &table.shape_phi}})
-      {
-        shape->reinit(fe->n_dofs_per_cell(), nq);
-        for (unsigned int a = 0; a < fe->n_dofs_per_cell(); ++a)
-          for (unsigned int q = 0; q < nq; ++q)
-            (*shape)(a, q) = fe->shape_value(a, quad.point(q));
-      }
+      table.shape_u   = reference_shape_values(vfe.base_element(0), quad);
+      table.shape_phi = reference_shape_values<dim>(space.fe(), quad);
       table.valid = true;
     }
     const VectorFieldValues<dim> velocity_values(vfe);
@@ -604,13 +599,7 @@ namespace twinflow::fem
         local_phi.resize(space.fe().n_dofs_per_cell());
         lcell->get_dof_values(phi, local_phi.begin(), local_phi.end());
       }
-      for (unsigned int q = 0; q < nq; ++q)
-      {
-        double v = 0;
-        for (unsigned int a = 0; a < local_phi.size(); ++a)
-          v += table.shape_phi(a, q) * local_phi[a];
-        phi_q[q] = v;
-      }
+      values_at_points(table.shape_phi, local_phi, phi_q);
       const double eps = space.epsilon(lcell);
       for (unsigned int q = 0, p = k * nq; q < nq; ++q, ++p)
       {

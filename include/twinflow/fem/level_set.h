@@ -91,6 +91,33 @@ namespace twinflow::fem
    * Also the free surface as an interface the mesh adaptation follows (|φ| at cell centres;
    * before any field exists, the initial signed distance).
    */
+  /// ψ_a(x_q) of @p fe at the points of @p quad, (a, q): the same on every cell for FE_Q, so
+  /// the cell loops that need only values at a fixed rule read them from this table.
+  template <int dim>
+  dealii::FullMatrix<double> reference_shape_values(const dealii::FiniteElement<dim> &fe,
+                                                    const dealii::Quadrature<dim>     &quad)
+  {
+    dealii::FullMatrix<double> shape(fe.n_dofs_per_cell(), quad.size());
+    for (unsigned int a = 0; a < shape.m(); ++a)
+      for (unsigned int q = 0; q < shape.n(); ++q)
+        shape(a, q) = fe.shape_value(a, quad.point(q));
+    return shape;
+  }
+
+  /// Σ_a local_a ψ_a(x_q) from a reference_shape_values() table.
+  inline void values_at_points(const dealii::FullMatrix<double> &shape, const std::vector<double> &local,
+                               std::vector<double> &out)
+  {
+    out.resize(shape.n());
+    for (unsigned int q = 0; q < shape.n(); ++q)
+    {
+      double v = 0;
+      for (unsigned int a = 0; a < shape.m(); ++a)
+        v += shape(a, q) * local[a];
+      out[q] = v;
+    }
+  }
+
   template <int dim>
   class LevelSetSpace : public FieldPhysics<dim>, public AdaptationInterface<dim>
   {
@@ -446,13 +473,7 @@ namespace twinflow::fem
                     std::vector<double> &local, std::vector<double> &u_q) const
       {
         reader.gather(cells[k], u, local);
-        for (unsigned int q = 0; q < shape.n(); ++q)
-        {
-          double v = 0;
-          for (unsigned int i = 0; i < shape.m(); ++i)
-            v += shape(i, q) * local[i];
-          u_q[q] = v;
-        }
+        values_at_points(shape, local, u_q);
       }
     };
     /// The point cache, the diffusion matrix κK (κ = correction diffusion × cell size, the
@@ -461,7 +482,6 @@ namespace twinflow::fem
     PointCache                             points;
     bool                                   points_ready = false;
     dealii::TrilinosWrappers::SparseMatrix diffusion;
-    dealii::TrilinosWrappers::MPI::Vector  correction_moments; ///< the owned layout for the scatter
   };
 
   /// ρ, μ of Eq. 9–10 from the current φ (t^n: Algorithm 1 runs Navier–Stokes first);
