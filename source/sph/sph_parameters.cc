@@ -36,7 +36,8 @@ namespace twinflow::sph
                       Patterns::Selection("auto|position|velocity"),
                       "Where the density-invariance source (weight Alpha) acts: position (the Alpha-blended pressure "
                       "moves the particles, the velocity is projected with Alpha = 0: the correction adds no kinetic "
-                      "energy; one more pressure solve per step), velocity (Eq. 55 as written), or auto: position "
+                      "energy; one more solve per step, for the density-error part q = p_Alpha - p to 1e-2 of its "
+                      "right-hand side), velocity (Eq. 55 as written), or auto: position "
                       "for the consistent operators where the scene has a free surface, velocity otherwise (in a "
                       "confined flow the velocity form keeps particles out of small bodies; the standard operators' "
                       "still water is worse with the position form).");

@@ -24,7 +24,7 @@ namespace twinflow::sph
   /// How the density-invariance term of Eq. 55 (weight α) acts: `velocity`, Eq. 55 as written (the
   /// α-blended pressure corrects the velocity, which keeps the kick as kinetic energy: the Martin &
   /// Moyce energy rose 19 % at α = 1), or `position` (the α-blended pressure moves the particles,
-  /// the velocity is projected with α = 0; one more pressure solve per step). `automatic`:
+  /// the velocity is projected with α = 0; one more, looser solve per step for q = p_α − p). `automatic`:
   /// position for the consistent operators where the flow has a free surface, velocity otherwise.
   /// A free surface is where the velocity form feeds energy in (impacts, splash: doc/benchmarks.md,
   /// "SPH energy budget"); a confined flow has none, and there the α term acting on the velocity is
@@ -48,6 +48,11 @@ namespace twinflow::sph
     bool               consistent = true; ///< consistent (Eq. 22–23) or standard (Eq. 19–20) operators
     double             alpha      = 0.5;  ///< blend of Eq. 55/57: density-invariance weight
     DensityCorrection  density_correction = DensityCorrection::automatic; ///< where the α term acts
+    /// position form: relative tolerance of the density-error solve A q = b_α − b_0 (from q = 0;
+    /// p_α = p + q moves the particles). q steers a displacement that the next step measures
+    /// again, so 1e-2 suffices: the same energy, fronts and largest speeds as 1e-6 in half the
+    /// iterations (doc/performance.md); the pressure solver's tolerance if that is looser
+    double             density_correction_tolerance = 1e-2;
     PressureWall       pressure_wall = PressureWall::bce;
     double             free_surface_ratio = 0.95; ///< fluid with ρ_i < ratio ρ0 gets p = 0
     double             free_surface_divergence = 0; ///< … or with ∇·r_i below this (0: density only)
@@ -129,7 +134,10 @@ namespace twinflow::sph
   struct StepReport
   {
     EnergyBudget budget;
-    SolverResult velocity[3], pressure;
+    SolverResult velocity[3];
+    /// the pressure phase: iterations of its solves (the position form: p and q), residual of p
+    SolverResult pressure;
+    int          pressure_q_iterations = 0; ///< of pressure.iterations, those of the density-error solve q (position form)
     int          free_surface_particles = 0;
     int          correction_fallbacks   = 0;
     double       max_speed              = 0;
