@@ -19,6 +19,7 @@
 #include <thrust/extrema.h>
 #include <thrust/fill.h>
 #include <thrust/for_each.h>
+#include <thrust/functional.h>
 #include <thrust/iterator/counting_iterator.h>
 #include <thrust/reduce.h>
 #include <thrust/scan.h>
@@ -160,7 +161,9 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       }
     };
 
-    /// Counts (fill == false) or writes and sorts (fill == true) the neighbours of particle i.
+    /// Finds the neighbours of particle i: counts[i] = their number, and the first `capacity` of
+    /// them (in cell order) in its slot buffer[i capacity …] (one pass over the candidate cells;
+    /// a row longer than the slot is found again after the slots are enlarged).
     template <int dim>
     struct Neighbours
     {
@@ -169,10 +172,8 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       double                    radius2;
       const geometry::Vec<dim> *x;
       const int                *sorted_index, *cell_start, *cell_end;
-      int                      *counts;   // fill == false: output
-      const int                *offsets;  // fill == true: input
-      int                      *indices;  // fill == true: output
-      bool                      fill;
+      int                       capacity;
+      int                      *counts, *buffer;
 
       TWINFLOW_HD void operator()(const int i) const
       {
@@ -182,7 +183,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
         int       ids[27];
         const int n_ids = grid.surrounding(c, ids);
         int       count = 0;
-        int      *row   = fill ? indices + offsets[i] : nullptr;
+        int      *slot  = buffer + static_cast<long long>(i) * capacity;
         for (int q = 0; q < n_ids; ++q)
           for (int k = cell_start[ids[q]]; k < cell_end[ids[q]]; ++k)
           {
@@ -193,20 +194,31 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
               r2 += r[d] * r[d];
             if (r2 < radius2 || j == i)
             {
-              if (fill)
-                row[count] = j;
+              if (count < capacity)
+                slot[count] = j;
               ++count;
             }
           }
-        if (!fill)
-        {
-          counts[i] = count;
-          return;
-        }
+        counts[i] = count;
+      }
+    };
+
+    /// Copies the slot of particle i into its CSR row, ascending.
+    struct CompactRow
+    {
+      int        capacity;
+      const int *buffer, *offsets;
+      int       *indices;
+
+      TWINFLOW_HD void operator()(const int i) const
+      {
+        const int *slot  = buffer + static_cast<long long>(i) * capacity;
+        int       *row   = indices + offsets[i];
+        const int  count = offsets[i + 1] - offsets[i];
         // rows are short (tens of entries): insertion sort
-        for (int a = 1; a < count; ++a)
+        for (int a = 0; a < count; ++a)
         {
-          const int v = row[a];
+          const int v = slot[a];
           int       b = a - 1;
           while (b >= 0 && row[b] > v)
           {
@@ -306,7 +318,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     thrust::lower_bound(exec, cell_of.begin(), cell_of.end(), first_id, first_id + n_ids, cell_start.begin());
     thrust::upper_bound(exec, cell_of.begin(), cell_of.end(), first_id, first_id + n_ids, cell_end.begin());
 
-    // --- count, scan, fill
+    // --- find (into slots of the last build's longest row and a margin), scan, compact
     Neighbours<dim> f;
     f.grid         = grid;
     f.box          = box;
@@ -316,20 +328,23 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     f.cell_start   = ptr(cell_start);
     f.cell_end     = ptr(cell_end);
     f.counts       = ptr(list.offsets);
-    f.offsets      = nullptr;
-    f.indices      = nullptr;
-    f.fill         = false;
     thrust::counting_iterator<int> first(0);
-    thrust::for_each(exec, first, first + n, f);
+    for (;;)
+    {
+      buffer.resize(static_cast<std::size_t>(n) * capacity);
+      f.capacity = capacity;
+      f.buffer   = ptr(buffer);
+      thrust::for_each(exec, first, first + n, f);
+      const int longest = thrust::reduce(exec, list.offsets.begin(), list.offsets.begin() + n, 0, thrust::maximum<int>());
+      if (longest <= capacity)
+        break;
+      capacity = longest + longest / 4 + 4; // the first build, or rows grown since the last
+    }
     // offsets[n] is 0 before the scan, so the in-place exclusive scan leaves the total there.
     thrust::exclusive_scan(exec, list.offsets.begin(), list.offsets.end(), list.offsets.begin());
     const int total = list.offsets[n];
     list.indices.resize(total);
-    f.counts  = nullptr;
-    f.offsets = ptr(list.offsets);
-    f.indices = ptr(list.indices);
-    f.fill    = true;
-    thrust::for_each(exec, first, first + n, f);
+    thrust::for_each(exec, first, first + n, CompactRow{capacity, ptr(buffer), ptr(list.offsets), ptr(list.indices)});
   }
 
   template class NeighborSearch<2>;

@@ -75,7 +75,7 @@ namespace
 
   template <int dim>
   void check_against_brute_force(const std::vector<bool> &periodic, const double L, const double radius,
-                                 const int n, const bool far_particle, const unsigned seed)
+                                 const int n, const bool far_particle, const unsigned seed, const int sparse_first = 0)
   {
     const DomainBox<dim>                   box = make_box<dim>(0.0, L, periodic);
     std::mt19937                           rng(seed);
@@ -98,6 +98,10 @@ namespace
 
     NeighborSearch<dim> search(box, radius);
     NeighborList        nl;
+    // sparse_first > 0: the search first sees only that many particles, so its neighbour slots
+    // (sized by the last build's longest row) are too short for the full set and must grow
+    if (sparse_first > 0)
+      search.build(dvec<Vec<dim>>(x.begin(), x.begin() + sparse_first), nl);
     search.build(dvec<Vec<dim>>(x.begin(), x.end()), nl);
     ASSERT_EQ(nl.n, int(x.size()));
     ASSERT_EQ(nl.offsets.size(), x.size() + 1);
@@ -134,6 +138,8 @@ namespace
     check_against_brute_force<2>({false, false}, 1.0, 0.01, 2000, true, 6);
     check_against_brute_force<2>({true, false}, 1.0, 0.01, 2000, true, 7);
     check_against_brute_force<2>({false, false}, 1.0, 0.1, 1, false, 8);
+    // rows 15x longer than those of the search's previous build
+    check_against_brute_force<2>({false, false}, 1.0, 0.07, 1500, false, 9, 100);
   }
 
   TEST(SphNeighborSearch, BruteForce3D)
@@ -145,6 +151,7 @@ namespace
     check_against_brute_force<3>({true, true, true}, 1.0, 0.7, 200, false, 15);
     check_against_brute_force<3>({false, false, false}, 1.0, 0.05, 2500, true, 16);
     check_against_brute_force<3>({false, true, false}, 1.0, 0.05, 2500, true, 17);
+    check_against_brute_force<3>({true, true, true}, 1.0, 0.12, 2500, false, 18, 100);
   }
 
   TEST(SphNeighborSearch, Empty)

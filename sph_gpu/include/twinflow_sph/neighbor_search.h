@@ -53,6 +53,8 @@ namespace twinflow::sph
       DomainBox<dim> box;
       double         radius;
       dvec<int>      cell_of, sorted_index, cell_start, cell_end, counts;
+      dvec<int>      buffer;       ///< per particle a slot of `capacity` neighbour indices
+      int            capacity = 0; ///< slot length: the longest row seen and a margin
     };
   } // namespace TWINFLOW_SPH_BACKEND
 } // namespace twinflow::sph
