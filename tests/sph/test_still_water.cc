@@ -142,6 +142,11 @@ TEST(StillWaterAtRest, ConsistentTwoSeconds) { expect_at_rest(stay_at_rest(true,
 // written: 5.6e-4 m/s, bulk error 0.54 %). With the position form, the default for free-surface
 // scenes since 2026-12-05 (`auto`), the tank meets it at 2 s (above) but not at 10 s: 0.013 m/s
 // (6.6e-3 sqrt(gH)), bulk error 1.003 % (DISABLED_PositionFormTenSeconds; issue 14, item 2 open).
+// Traced 2026-12-06: a creep (the largest speed grows steadily to 5.6e-4 m/s by t = 9.87 s, in
+// both forms) brings the two wall-adjacent particles of the second row to rho = 0.95 rho0 at
+// t = 9.868 s; they are flagged free surface for one step, their pressure drops to 0 and back, and
+// the kick (0.013 m/s) decays over ~10 steps. A +-0.5-1 % hysteresis on the density criterion only
+// delayed the flip by one step (the divergence criterion crosses with it) and doubled the kick.
 TEST(StillWaterAtRest, DISABLED_ConsistentTenSeconds)
 {
   expect_at_rest(stay_at_rest(true, 10, DensityCorrection::velocity));
