@@ -80,9 +80,9 @@ namespace twinflow::sph
                       "streams, ejects it (spray kicks). Not next to a solid.");
     prm.declare_entry("Wetted walls", d.wetted_walls ? "true" : "false", Patterns::Bool(),
                       "Consistent operators: wall BCE markers hold the liquid that wets them: their force-balance "
-                      "pressure (Eq. 64) uses rho0 instead of the fluid's summation density, and a marker "
-                      "with no free-surface particle in its support mirrors the fluid's motion away from the "
-                      "wall (up to |g| dt) as well as towards it. Keeps still water in a walled tank at rest (without it the "
+                      "pressure (Eq. 64) uses rho0 instead of the fluid's summation density, and each wall "
+                      "marker mirrors the fluid's motion away from the wall (up to |g| dt) as well as towards "
+                      "it. Keeps still water in a walled tank at rest (without it the "
                       "tank diverges at t = 2.4 s).");
     prm.declare_entry("Time step", to_string(d.time_step), Patterns::Double(0), "Maximum time step [s], > 0.");
     prm.declare_entry("CFL number", to_string(d.cfl), Patterns::Double(0),

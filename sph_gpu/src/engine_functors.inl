@@ -296,7 +296,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
   /// pressure rows (Eq. 64) already carry the wall's reaction to ρ(g − a^p); mirroring all of
   /// u* would count it twice (12 % hydrostatic error), mirroring nothing lets particles that
   /// move towards the wall pass through it. With wetted_walls, motion away from a wall marker
-  /// is mirrored too where the marker is wetted (no free-surface particle among its neighbours),
+  /// is mirrored too at a wetted marker (every wall marker; not solid bodies' markers),
   /// up to |g| Δt: liquid pressed on a wall cannot creep off it, and nothing else in the
   /// pressure equation keeps it there (still water lifted off the floor at a constant
   /// 8e-5 m/s², doc/benchmarks.md); the wall holds it back with at most the suction of one
@@ -326,8 +326,11 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
           nn += p.normal[i][d] * p.normal[i][d];
         }
         un = nn > 0 ? un / nn : 0.0;
-        const bool   wetted = wetted_walls && p.kind[i] == ParticleKind::wall &&
-                              !any_neighbor(nb, i, [&](const int j) { return p.fluid(j) && p.surface[j]; });
+        // Every wall marker is wetted, also where its support reaches the free surface (the contact
+        // line): the |g| Δt cap lets a splash leave a wall, and without the hold there the wall-side
+        // particles of still water's top two rows drifted off the walls at a growing speed until one
+        // was flagged free surface for a step (t = 9.87 s: a 0.013 m/s kick; doc/benchmarks.md).
+        const bool   wetted = wetted_walls && p.kind[i] == ParticleKind::wall;
         // motion into the wall; away from it only if wetted, and then at most |g| Δt
         const double toward = un < 0 ? un : (wetted ? (un < max_separation ? un : max_separation) : 0.0);
         for (int d = 0; d < dim; ++d)

@@ -138,15 +138,15 @@ TEST(StillWater, HydrostaticStandard)
 // wall markers mirror separation; engine_functors.inl). Without it the consistent run diverges
 // at t = 2.44 s. The 2 s runs are quick; the 10 s runs (label full) are test_sph_still_water_10s.
 TEST(StillWaterAtRest, ConsistentTwoSeconds) { expect_at_rest(stay_at_rest(true, 2)); }
-// The 10 s bound holds with the density error corrected through the velocity (Eq. 55 as
-// written: 5.6e-4 m/s, bulk error 0.54 %). With the position form, the default for free-surface
-// scenes since 2026-12-05 (`auto`), the tank meets it at 2 s (above) but not at 10 s: 0.013 m/s
-// (6.6e-3 sqrt(gH)), bulk error 1.003 % (DISABLED_PositionFormTenSeconds; issue 14, item 2 open).
-// Traced 2026-12-06: a creep (the largest speed grows steadily to 5.6e-4 m/s by t = 9.87 s, in
-// both forms) brings the two wall-adjacent particles of the second row to rho = 0.95 rho0 at
-// t = 9.868 s; they are flagged free surface for one step, their pressure drops to 0 and back, and
-// the kick (0.013 m/s) decays over ~10 steps. A +-0.5-1 % hysteresis on the density criterion only
-// delayed the flip by one step (the divergence criterion crosses with it) and doubled the kick.
+// The 10 s runs (label full, test_sph_still_water_10s), both forms of the density-error
+// correction. Measured 2026-12-06 with every wall marker wetted: velocity form 4.1e-4 m/s, bulk
+// error 0.14 %; position form (the free-surface default) 4.0e-4 m/s, 0.28 %. Before, markers whose
+// support held a free-surface particle (the contact line) did not hold the liquid: the wall-side
+// particles of the top two rows drifted off the walls at a growing speed (4.2e-4 m/s at t = 8 s,
+// 1.6 mm off the wall, second-row density 996 -> 970), and at t = 9.868 s two of them were
+// flagged free surface for one step (rho = 0.95 rho0): a 0.013 m/s kick (position form; the
+// velocity form passed at 5.6e-4 m/s, 0.54 %). A +-0.5-1 % hysteresis on the density criterion
+// only delayed that flip by a step (the divergence criterion crosses with it).
 TEST(StillWaterAtRest, DISABLED_ConsistentTenSeconds)
 {
   expect_at_rest(stay_at_rest(true, 10, DensityCorrection::velocity));
