@@ -422,7 +422,6 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       const SolverResult q    = solve_with(density_q, q_solver);
       report.pressure.converged = report.pressure.converged && q.converged;
       report.pressure.iterations += q.iterations;
-      report.pressure_q_iterations = q.iterations;
       remove_confined_pressure_level(); // confined flows only
     }
 

@@ -137,7 +137,6 @@ namespace twinflow::sph
     SolverResult velocity[3];
     /// the pressure phase: iterations of its solves (the position form: p and q), residual of p
     SolverResult pressure;
-    int          pressure_q_iterations = 0; ///< of pressure.iterations, those of the density-error solve q (position form)
     int          free_surface_particles = 0;
     int          correction_fallbacks   = 0;
     double       max_speed              = 0;

@@ -52,7 +52,7 @@ namespace twinflow::sph
     private:
       DomainBox<dim> box;
       double         radius;
-      dvec<int>      cell_of, sorted_index, cell_start, cell_end, counts;
+      dvec<int>      cell_of, sorted_index, cell_start, cell_end;
       dvec<int>      buffer;       ///< per particle a slot of `capacity` neighbour indices
       int            capacity = 0; ///< slot length: the longest row seen and a margin
     };
