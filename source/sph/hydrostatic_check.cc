@@ -7,7 +7,8 @@
 namespace twinflow::sph
 {
   template <int dim>
-  HydrostaticCheck hydrostatic_check(const Scene &scene, const double dx, const HostParticles<dim> &P)
+  HydrostaticCheck hydrostatic_check(const Scene &scene, const double dx, const HostParticles<dim> &P,
+                                     const bool surface_offset)
   {
     constexpr int up = dim - 1;
     if (!scene.fluid_region)
@@ -48,7 +49,7 @@ namespace twinflow::sph
           bulk = P.x[i][d] >= scene.domain.lower[d] + margin && P.x[i][d] <= scene.domain.upper[d] - margin;
       if (!bulk)
         continue;
-      const double exact = rho * g * (H - 0.5 * dx - y);
+      const double exact = rho * g * (H - (surface_offset ? 0.0 : 0.5 * dx) - y);
       const double e     = std::abs(P.p[i] - exact) / exact;
       c.max_relative_error = std::max(c.max_relative_error, e);
       c.bulk_max_speed     = std::max(c.bulk_max_speed, speed);
@@ -63,6 +64,6 @@ namespace twinflow::sph
     return c;
   }
 
-  template HydrostaticCheck hydrostatic_check<2>(const Scene &, double, const HostParticles<2> &);
-  template HydrostaticCheck hydrostatic_check<3>(const Scene &, double, const HostParticles<3> &);
+  template HydrostaticCheck hydrostatic_check<2>(const Scene &, double, const HostParticles<2> &, bool);
+  template HydrostaticCheck hydrostatic_check<3>(const Scene &, double, const HostParticles<3> &, bool);
 } // namespace twinflow::sph

@@ -159,7 +159,8 @@ namespace twinflow::sph
           }
           if (kind < 0)
             continue;
-          P.add(x, geometry::Vec<dim>::zero(), kind == ParticleKind::fluid ? rho0 * g * std::max(0.0, y_top - x[up]) : 0.0,
+          // hydrostatic below the top of the column, BCE markers too (they extrapolate the fluid's)
+          P.add(x, geometry::Vec<dim>::zero(), rho0 * g * std::max(0.0, y_top - x[up]),
                 rho0, kind, normal, kind == ParticleKind::solid ? solid_index : -1);
           n_fluid += kind == ParticleKind::fluid;
         }

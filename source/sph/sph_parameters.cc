@@ -84,6 +84,11 @@ namespace twinflow::sph
                       "marker mirrors the fluid's motion away from the wall (up to |g| dt) as well as towards "
                       "it. Keeps still water in a walled tank at rest (without it the "
                       "tank diverges at t = 2.4 s).");
+    prm.declare_entry("Free-surface offset", d.surface_offset ? "true" : "false", Patterns::Bool(),
+                      "Consistent operators: p = 0 lies half a spacing above the free-surface particles (the top "
+                      "of the liquid they hold), so they carry p = dx/2 dp/dn from the liquid beneath, hydrostatic "
+                      "at most, zero in free fall. false: p = 0 at their centres (the paper's form), which leaves the "
+                      "whole pressure field rho |g| dx/2 low: a floating body sinks by dx/2.");
     prm.declare_entry("Time step", to_string(d.time_step), Patterns::Double(0), "Maximum time step [s], > 0.");
     prm.declare_entry("CFL number", to_string(d.cfl), Patterns::Double(0),
                       "dt <= CFL h / max(|u|_max, Monitors/Reference velocity); 0: fixed step.");
@@ -133,6 +138,7 @@ namespace twinflow::sph
     shifting           = prm.get_double("Particle shifting");
     shifting_velocity_floor = prm.get_double("Shifting velocity floor");
     wetted_walls            = prm.get_bool("Wetted walls");
+    surface_offset          = prm.get_bool("Free-surface offset");
     min_pair_distance       = prm.get_double("Minimum pair distance");
     limit_pressure_peaks    = prm.get_bool("Limit pressure peaks");
     time_step = prm.get_double("Time step");

@@ -56,7 +56,7 @@ namespace twinflow::sph
       HostParticles<dim> P;
       result.fluid_particles = make_particles<dim>(scene, prm.spacing, layers, fluid.density, P);
       result.markers         = P.size() - result.fluid_particles;
-      if (scene.reference_hydrostatic && hydrostatic_check<dim>(scene, prm.spacing, P).bulk_particles == 0)
+      if (scene.reference_hydrostatic && hydrostatic_check<dim>(scene, prm.spacing, P, false).bulk_particles == 0)
         throw InputError("SPH/Particle spacing = " + std::to_string(prm.spacing) +
                          ": no fluid particle lies more than " + std::to_string(int(hydrostatic_bulk_margin)) +
                          " spacings below the surface and from the walls, so References/Hydrostatic pressure has "
@@ -447,11 +447,13 @@ namespace twinflow::sph
       result.monitors["energy budget: shifting [J]"]              = budget.shifting;
       if (scene.reference_hydrostatic)
       {
-        // Fluid at rest: final bulk pressure against rho |g| (H - dx/2 - y) (hydrostatic_check.h).
+        // Fluid at rest: final bulk pressure against rho |g| (H_0 - y) (hydrostatic_check.h).
         engine->get_particles(P);
-        const HydrostaticCheck c = hydrostatic_check<dim>(scene, prm.spacing, P);
+        const bool             offset = make_engine_settings(scene, prm).offsets_surface();
+        const HydrostaticCheck c      = hydrostatic_check<dim>(scene, prm.spacing, P, offset);
         summary.add_error("hydrostatic bulk pressure (RMS relative error)", c.rms_relative_error, 0.0, 0.01,
-                          "final bulk pressure against rho |g| (H - dx/2 - y) over " + std::to_string(c.bulk_particles) +
+                          std::string("final bulk pressure against rho |g| (") + (offset ? "H" : "H - dx/2") +
+                            " - y) over " + std::to_string(c.bulk_particles) +
                             " particles more than " + std::to_string(int(hydrostatic_bulk_margin)) +
                             " spacings below the surface and from the walls; reference 0 = exact");
         result.monitors["hydrostatic max relative error"] = c.max_relative_error;
@@ -561,6 +563,7 @@ namespace twinflow::sph
     s.min_pair_distance       = prm.min_pair_distance;
     s.limit_pressure_peaks    = prm.limit_pressure_peaks;
     s.wetted_walls            = prm.wetted_walls;
+    s.surface_offset          = prm.surface_offset;
     for (int d = 0; d < 3; ++d)
     {
       s.acceleration[d] = scene.gravity[d] + scene.body_force[d];

@@ -386,6 +386,8 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       r.rest_density_markers = settings.wetted_walls && settings.consistent;
       r.pinned          = pinned;
       r.rhs             = ptr(rhs);
+      if (settings.offsets_surface())
+        r.surface_pressure = compute_surface_pressure();
       for_each_particle(r);
       make_confined_rhs_compatible(); // confined flows only
       const bool multigrid_on = settings.pressure_preconditioner == PressurePreconditioner::multigrid;
@@ -423,6 +425,27 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       report.pressure.converged = report.pressure.converged && q.converged;
       report.pressure.iterations += q.iterations;
       remove_confined_pressure_level(); // confined flows only
+    }
+
+    /// p of the free-surface rows: half a spacing of liquid above them (SurfacePressure), from
+    /// the last step's pressure differentiated at this step's positions (a restart has both).
+    const double *compute_surface_pressure()
+    {
+      for (int d = 0; d < dim; ++d)
+        spmv(nl.offsets, nl.indices, A.gradient[d], pressure, grad_p[d]);
+      double g2 = 0;
+      for (int d = 0; d < dim; ++d)
+        g2 += settings.gravity[d] * settings.gravity[d];
+      surface_pressure.resize(n);
+      detail::SurfacePressure<dim> sp;
+      sp.p      = particles();
+      sp.nb     = neighbors(x);
+      sp.grad_p = components(grad_p);
+      sp.d      = 0.5 * settings.spacing;
+      sp.p_max  = settings.rho0 * std::sqrt(g2) * sp.d;
+      sp.out    = ptr(surface_pressure);
+      for_each_particle(sp);
+      return ptr(surface_pressure);
     }
 
     /// Diagnostics: RMS of p_i minus its Shepard average over the interior fluid particles.
@@ -700,7 +723,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     CellMultigrid<dim> multigrid;
     dvec<Tensor2<dim>> G, L;
     dvec<Vec<dim>>     x, x_start, u, u_old, u_cont, u_approach, wall_velocity, wall_acceleration, normal;
-    dvec<double>       pressure, rhs_alpha, density_q, grad_q[dim], rho, support, V, rhs, tmp, comp, div_u, values, grad_p[dim];
+    dvec<double>       pressure, surface_pressure, rhs_alpha, density_q, grad_q[dim], rho, support, V, rhs, tmp, comp, div_u, values, grad_p[dim];
     dvec<int>          kind, surface, body;
     std::vector<std::array<double, 3>> forces, torques; ///< per solid, from the last step
     std::vector<std::array<double, 3>> torque_centres;  ///< per solid: `to` of its last MarkerMotion

@@ -2,17 +2,15 @@
 """Force on a half-submerged disk held fixed in still water, at two particle spacings.
 
 usage: check_held_force.py COARSE_FORCES_CSV [FINE_FORCES_CSV] --radius R [--rho 1000] [--gravity 9.8]
-                           [--from T0] [--tolerance 0.02] [--min-rate 0.7]
+                           [--from T0] [--tolerance 0.02]
 
-Reference: the weight of the displaced water rho g pi R^2 / 2 (per unit depth). The fine run
-has half the spacing of the coarse one. Over t >= T0 the mean vertical force of each run is
-compared with it: the error must fall with the spacing at an observed order >= MIN_RATE (SPH's
-free surface sits dx/2 above the p = 0 particles, a first-order deficit), and the first-order
-Richardson extrapolation 2 F_fine - F_coarse must lie within TOLERANCE of the reference; the
-horizontal force must stay below 1 % of it. Raw errors of both runs are printed.
-
-With one run (the FEM, whose pressure has no free-surface offset) its own mean vertical force
-must lie within TOLERANCE of the reference.
+Reference: the weight of the displaced water rho g pi R^2 / 2 (per unit depth). Over t >= T0
+the mean vertical force of each run (one, or two at spacings dx and dx/2) must lie within
+TOLERANCE of it and the horizontal force below 1 % of it. With two runs the observed order and
+the first-order Richardson extrapolation 2 F_fine - F_coarse are printed: with p = 0 at the
+centres of the surface particles (the paper's form, SPH/Free-surface offset off) the force
+carries a first-order deficit (12.6 % / 7.1 % at R/6 and R/12), which the extrapolation
+removes; with the surface half a spacing above them neither run has it.
 """
 import argparse
 import math
@@ -40,7 +38,6 @@ def main():
     p.add_argument("--gravity", type=float, default=9.8)
     p.add_argument("--from", dest="t0", type=float, default=0.1)
     p.add_argument("--tolerance", type=float, default=0.02)
-    p.add_argument("--min-rate", type=float, default=0.7)
     a = p.parse_args()
     ref = a.rho * a.gravity * math.pi * a.radius**2 / 2
     if a.fine is None:
@@ -59,7 +56,7 @@ def main():
     print(f"rho g V_submerged = {ref:.2f} N; coarse {fy_c:.2f} N ({100 * e_c:.2f} %), fine {fy_f:.2f} N "
           f"({100 * e_f:.2f} %), order {rate:.2f}; extrapolated {extrapolated:.2f} N ({100 * e_x:.2f} %)")
     print(f"horizontal force: coarse {fx_c:.3g} N, fine {fx_f:.3g} N")
-    ok = rate >= a.min_rate and e_x <= a.tolerance and max(abs(fx_c), abs(fx_f)) < 0.01 * ref
+    ok = max(e_c, e_f) <= a.tolerance and max(abs(fx_c), abs(fx_f)) < 0.01 * ref
     print("PASS" if ok else "FAIL")
     return 0 if ok else 1
 

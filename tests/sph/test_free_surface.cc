@@ -12,6 +12,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 using namespace twinflow;
 using namespace twinflow::sph;
 
@@ -156,10 +158,76 @@ TEST(SphDefaults, AnEmptySubsectionReachesTheEngineWithTheRobustSwitches)
   EXPECT_TRUE(s.consistent);
   EXPECT_TRUE(s.correction_checks.positive_definite_laplacian);
   EXPECT_TRUE(s.wetted_walls);
+  EXPECT_TRUE(s.offsets_surface()); // p = 0 half a spacing above the surface particles
   EXPECT_GT(s.shifting, 0.0);
   EXPECT_DOUBLE_EQ(s.free_surface_divergence, 0.6 * 2);                  // ∇·r < 1.2 in 2D
   EXPECT_DOUBLE_EQ(s.free_surface_min_neighbours, 0.6 * full_support_count(2, 1.2)); // 12.6
   EXPECT_GT(s.density_relaxation_time, 0.0); // density error removed over the reference step
   EXPECT_TRUE(s.free_surface);
   EXPECT_DOUBLE_EQ(s.spacing, 0.02);
+}
+
+namespace
+{
+  /// Fluid particles of @p P whose free-surface flag the engine would set are not exposed; the
+  /// top row of a lattice tank and the outer ring of a block are found by position instead.
+  double g_dx_half() { return 1000.0 * 9.8 * 0.01; } // ρ |g| Δx/2 at Δx = 0.02
+} // namespace
+
+// SPH/Free-surface offset (SurfacePressure): p = 0 half a spacing above the free-surface
+// particles. At rest they carry the half spacing of liquid above them, ρ|g|Δx/2 (with p = 0 at
+// their centres the whole field sat that much low: a held disk carried 12.6 % less than its
+// buoyancy); a block of water in free fall has no pressure gradient beneath its surface, so its
+// surface particles carry nothing and it falls at g.
+TEST(FreeSurface, SurfaceParticlesCarryHalfASpacingOfLiquidAtRestAndNothingInFreeFall)
+{
+  const double dx = 0.02;
+  for (const bool offset : {true, false})
+  {
+    const Scene      scene = twinflow::testing::water_tank(0.5, 0.6, 0.4);
+    HostParticles<2> P;
+    make_particles<2>(scene, dx, 3, 1000.0, P);
+    SphParameters prm;
+    prm.spacing        = dx;
+    prm.surface_offset = offset;
+    auto engine        = make_engine<2>("cpu", domain_box<2>(scene), make_engine_settings(scene, prm));
+    engine->set_particles(P);
+    for (int k = 0; k < 5; ++k)
+      engine->step(2e-3);
+    engine->get_particles(P);
+    int top = 0;
+    for (std::size_t i = 0; i < P.size(); ++i)
+      if (P.kind[i] == ParticleKind::fluid && P.x[i][1] > 0.4 - dx)
+      {
+        ++top;
+        if (offset) // hydrostatic within the 1.1 band of SurfacePressure, never above it
+          EXPECT_NEAR(P.p[i], g_dx_half(), 0.005 * g_dx_half()) << "x = " << P.x[i][0];
+        else
+          EXPECT_NEAR(P.p[i], 0.0, 1e-6 * g_dx_half()) << "x = " << P.x[i][0]; // to the solver tolerance
+      }
+    EXPECT_EQ(top, 25); // the whole top row, the contact line's particles too
+  }
+
+  // a 0.2 m square block released at rest 0.6 m above the floor: 20 steps of free fall
+  Scene scene               = twinflow::testing::water_tank(0.5, 1.0, 0.8);
+  scene.fluid_region->lower = {{0.15, 0.6, 0}};
+  scene.fluid_region->upper = {{0.35, 0.8, 0}};
+  HostParticles<2> P;
+  make_particles<2>(scene, dx, 3, 1000.0, P);
+  for (auto &p : P.p)
+    p = 0; // released: no pressure yet
+  SphParameters prm;
+  prm.spacing = dx;
+  auto engine = make_engine<2>("cpu", domain_box<2>(scene), make_engine_settings(scene, prm));
+  engine->set_particles(P);
+  const double dt = 1e-3;
+  for (int k = 0; k < 20; ++k)
+    engine->step(dt);
+  engine->get_particles(P);
+  for (std::size_t i = 0; i < P.size(); ++i)
+    if (P.kind[i] == ParticleKind::fluid)
+    {
+      EXPECT_LT(std::abs(P.p[i]), 0.01 * g_dx_half()) << "(" << P.x[i][0] << ", " << P.x[i][1] << ")";
+      EXPECT_NEAR(P.u[i][1], -9.8 * 20 * dt, 0.01 * 9.8 * 20 * dt) << "(" << P.x[i][0] << ", " << P.x[i][1] << ")";
+    }
 }

@@ -3,7 +3,8 @@
  * @file hydrostatic_check.h
  * Hydrostatic reference check of an SPH fluid at rest (scene entry References/Hydrostatic
  * pressure, tests/sph/test_still_water.cc): the pressure of the bulk particles against
- * p = rho |g| (H - dx/2 - y). One implementation for the test and for the run's summary.
+ * the hydrostatic pressure below the discrete free surface. One implementation for the test
+ * and for the run's summary.
  */
 #include <twinflow/core/scene.h>
 #include <twinflow_sph/engine.h>
@@ -31,15 +32,19 @@ namespace twinflow::sph
    * Compares the pressure of the fluid particles of @p particles with the hydrostatic
    * pressure of @p scene's initial fluid region (fluid 1 density rho, gravity g along -e_{dim-1}):
    *
-   *   p_exact(y) = rho |g| (H - dx/2 - y),   H = top of Fluids/Initial region of fluid 1,
+   *   p_exact(y) = rho |g| (H_0 - y),   H_0 = H with @p surface_offset, else H - dx/2,
    *
-   * where y is the vertical (last) coordinate. p = 0 is imposed on the top particle layer
-   * (the free-surface particles), whose centres lie at H - dx/2: that is where the discrete
-   * free surface is. The bulk are the fluid particles more than hydrostatic_bulk_margin
-   * spacings @p dx below H and away from every non-periodic wall of the domain box (the
+   * H the top of Fluids/Initial region of fluid 1 and y the vertical (last) coordinate. The
+   * centres of the top particle layer (the free-surface particles) lie at H - dx/2. With
+   * EngineSettings::offsets_surface() (@p surface_offset) they carry the pressure of the half
+   * spacing above them and p = 0 lies at H, the top of the liquid; otherwise (standard
+   * operators, the paper's form) p = 0 is imposed at their centres. The bulk are the fluid
+   * particles more than hydrostatic_bulk_margin spacings @p dx below H and away from every
+   * non-periodic wall of the domain box (the
    * bottom included); without bulk particles the errors are NaN. Throws InputError if the scene has no initial fluid region or its
    * gravity is not along -e_{dim-1}.
    */
   template <int dim>
-  HydrostaticCheck hydrostatic_check(const Scene &scene, double dx, const HostParticles<dim> &particles);
+  HydrostaticCheck hydrostatic_check(const Scene &scene, double dx, const HostParticles<dim> &particles,
+                                     bool surface_offset);
 } // namespace twinflow::sph

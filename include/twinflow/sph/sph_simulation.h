@@ -37,6 +37,7 @@ namespace twinflow::sph
     double      shifting      = EngineSettings().shifting; ///< particle-shifting coefficient (0: off)
     double      shifting_velocity_floor = EngineSettings().shifting_velocity_floor; ///< shifting speed scale max(|u_i|, floor) [m/s]
     bool        wetted_walls = EngineSettings().wetted_walls; ///< EngineSettings::wetted_walls
+    bool        surface_offset = EngineSettings().surface_offset; ///< EngineSettings::surface_offset
     double      min_pair_distance = EngineSettings().min_pair_distance; ///< EngineSettings::min_pair_distance
     bool        limit_pressure_peaks = EngineSettings().limit_pressure_peaks; ///< EngineSettings::limit_pressure_peaks
     double      time_step     = 1e-3;   ///< maximum step

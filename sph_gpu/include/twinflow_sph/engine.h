@@ -70,6 +70,9 @@ namespace twinflow::sph
     /// motion away from a wetted marker mirrored, up to |g| Δt, in the continuity source
     /// (ContinuityVelocity)
     bool               wetted_walls = true;
+    /// consistent operators with a free surface: p = 0 half a spacing beyond the free-surface
+    /// particles, which carry p_s = Δx/2 ∂p/∂n (SurfacePressure), not at their centres
+    bool               surface_offset = true;
     std::array<double, 3> acceleration{{0, 0, 0}}; ///< gravity + body force
     std::array<double, 3> gravity{{0, 0, 0}};      ///< g of Eq. 61/64
     SolverSettings     velocity_solver, pressure_solver;
@@ -85,6 +88,9 @@ namespace twinflow::sph
     /// direction axis, 2 axis for the lower; −1: none): the last-resort clamp that keeps fluid
     /// inside the box skips it; the host removes the particles beyond (sph/open_boundary.h)
     int                open_face = -1;
+
+    /// Whether the free-surface particles carry the pressure of half a spacing (surface_offset).
+    bool offsets_surface() const { return surface_offset && consistent && free_surface; }
 
     /// Whether the α term moves the particles (DensityCorrection::position, or `automatic` for the
     /// consistent operators with a free surface); false when α = 0 (there is no α term).
