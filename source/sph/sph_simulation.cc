@@ -96,7 +96,8 @@ namespace twinflow::sph
       if (s.free_surface)
       {
         std::ostringstream fs;
-        fs << "free surface (p = 0 where rho < " << prm.free_surface_ratio << " rho0";
+        fs << "free surface (" << (s.offsets_surface() ? "p = 0 half a spacing above" : "p = 0 at")
+           << " the particles where rho < " << prm.free_surface_ratio << " rho0";
         if (s.free_surface_divergence > 0)
           fs << ", div r < " << s.free_surface_divergence;
         if (s.free_surface_min_neighbours > 0)
@@ -449,7 +450,7 @@ namespace twinflow::sph
       {
         // Fluid at rest: final bulk pressure against rho |g| (H_0 - y) (hydrostatic_check.h).
         engine->get_particles(P);
-        const bool             offset = make_engine_settings(scene, prm).offsets_surface();
+        const bool             offset = s.offsets_surface();
         const HydrostaticCheck c      = hydrostatic_check<dim>(scene, prm.spacing, P, offset);
         summary.add_error("hydrostatic bulk pressure (RMS relative error)", c.rms_relative_error, 0.0, 0.01,
                           std::string("final bulk pressure against rho |g| (") + (offset ? "H" : "H - dx/2") +

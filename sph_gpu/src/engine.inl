@@ -339,10 +339,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
         cont.p        = particles();
         cont.nb       = neighbors(x);
         cont.wetted_walls = settings.wetted_walls && settings.consistent; // standard: no help (doc/benchmarks.md)
-        double g2 = 0;
-        for (int d = 0; d < dim; ++d)
-          g2 += settings.gravity[d] * settings.gravity[d];
-        cont.max_separation = std::sqrt(g2) * dt;
+        cont.max_separation = settings.gravity_norm() * dt;
         cont.approach = ptr(u_approach);
         cont.out      = ptr(u_cont);
         for_each_particle(cont);
@@ -429,20 +426,18 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
 
     /// p of the free-surface rows: half a spacing of liquid above them (SurfacePressure), from
     /// the last step's pressure differentiated at this step's positions (a restart has both).
+    /// grad_p holds ∇p^n until correct_and_move() overwrites it with ∇p^{n+1}.
     const double *compute_surface_pressure()
     {
       for (int d = 0; d < dim; ++d)
         spmv(nl.offsets, nl.indices, A.gradient[d], pressure, grad_p[d]);
-      double g2 = 0;
-      for (int d = 0; d < dim; ++d)
-        g2 += settings.gravity[d] * settings.gravity[d];
       surface_pressure.resize(n);
       detail::SurfacePressure<dim> sp;
       sp.p      = particles();
       sp.nb     = neighbors(x);
       sp.grad_p = components(grad_p);
       sp.d      = 0.5 * settings.spacing;
-      sp.p_max  = settings.rho0 * std::sqrt(g2) * sp.d;
+      sp.p_max  = settings.rho0 * settings.gravity_norm() * sp.d;
       sp.out    = ptr(surface_pressure);
       for_each_particle(sp);
       return ptr(surface_pressure);

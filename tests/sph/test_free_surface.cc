@@ -169,8 +169,8 @@ TEST(SphDefaults, AnEmptySubsectionReachesTheEngineWithTheRobustSwitches)
 
 namespace
 {
-  /// Fluid particles of @p P whose free-surface flag the engine would set are not exposed; the
-  /// top row of a lattice tank and the outer ring of a block are found by position instead.
+  /// The pressure of half a spacing of water: the top row of a tank at rest is found by position
+  /// (the engine does not expose its free-surface flags).
   double g_dx_half() { return 1000.0 * 9.8 * 0.01; } // ρ |g| Δx/2 at Δx = 0.02
 } // namespace
 

@@ -9,6 +9,7 @@
 #include <twinflow_sph/solver_settings.h>
 
 #include <array>
+#include <cmath>
 #include <memory>
 #include <string>
 #include <vector>
@@ -88,6 +89,12 @@ namespace twinflow::sph
     /// direction axis, 2 axis for the lower; −1: none): the last-resort clamp that keeps fluid
     /// inside the box skips it; the host removes the particles beyond (sph/open_boundary.h)
     int                open_face = -1;
+
+    /// |g| of Eq. 61/64.
+    double gravity_norm() const
+    {
+      return std::sqrt(gravity[0] * gravity[0] + gravity[1] * gravity[1] + gravity[2] * gravity[2]);
+    }
 
     /// Whether the free-surface particles carry the pressure of half a spacing (surface_offset).
     bool offsets_surface() const { return surface_offset && consistent && free_surface; }
