@@ -66,12 +66,13 @@ namespace twinflow::sph
                       "acts at rest (damps the row-pairing mode of the consistent operators next to walls) and "
                       "particles next to the free surface are not shifted; 0: |u| (Lind et al. 2012).");
     prm.declare_entry("Minimum pair distance", to_string(d.min_pair_distance), Patterns::Double(0, 0.9),
-                      "Fluid particles closer than this fraction of the spacing, one of them a free-surface "
-                      "particle, are pushed apart to it, along the line joining them, after each step's free-surface detection "
-                      "(velocities unchanged; not next to a solid body). Free-surface particles (p = 0) feel no "
-                      "pressure and are not shifted, and a kernel's gradient vanishes at r = 0, so nothing else "
-                      "separates a pair that has formed; a pair swept back into the water compresses its support "
-                      "by up to 20 % and is kicked out by the density-invariance pressure. 0: off.");
+                      "Fluid particles closer than this fraction of the spacing are pushed apart to it, along the "
+                      "line joining them, after each step's free-surface detection (velocities unchanged; not next "
+                      "to a solid body). Pairs form at the free surface: free-surface particles feel no pressure and "
+                      "are not shifted, and a kernel's gradient vanishes at r = 0, so nothing else separates a pair "
+                      "that has formed; a pair swept back into the water compresses its support by up to 20 % and "
+                      "is kicked out by the density-invariance pressure. Water that keeps its volume has no pair "
+                      "this close. 0: off.");
     prm.declare_entry("Limit pressure peaks", d.limit_pressure_peaks ? "true" : "false", Patterns::Bool(),
                       "Consistent operators: a fluid particle whose pressure is a strict local maximum (p > 0, above "
                       "every neighbour) or minimum (p < 0, below every neighbour) gets a zero pressure gradient, the "

@@ -123,7 +123,7 @@ namespace twinflow::sph
         return restart ? io::monitor_rows_until(dir + "/" + file, start.time) : std::vector<std::vector<double>>();
       };
       const auto energy_rows = carried("energy.csv"), front_rows = carried("front.csv"),
-                 solver_rows = carried("solver.csv");
+                 solver_rows = carried("solver.csv"), budget_rows = carried("energy_budget.csv");
       io::CsvMonitor energy(dir + "/energy.csv", {"time", "kinetic energy", "potential energy", "total energy"},
                             {"s", "J", "J", "J"}, self, "energy");
       // x_front: leading edge of the connected water (sph/front.h); x_foremost: of any particle,
@@ -134,6 +134,14 @@ namespace twinflow::sph
                             {"time", "dt", "velocity iterations", "pressure iterations", "pressure residual", "free-surface particles",
                              "pressure noise"},
                             {"s", "s", "-", "-", "-", "-", "Pa"}, self, "solver");
+      // Where the mechanical energy change came from, summed from t = 0 (EnergyBudget): the five
+      // columns add up to the change of the total energy in energy.csv.
+      io::CsvMonitor energy_budget(dir + "/energy_budget.csv",
+                                   {"time", "viscous", "body force work", "pressure correction", "potential of the move",
+                                    "shifting"},
+                                   {"s", "J", "J", "J", "J", "J"}, self, "energy budget");
+      for (const auto &row : budget_rows)
+        energy_budget.append(row);
       double noise_sum = 0, noise_time = 0; // time average of the pressure noise
       for (const auto &row : energy_rows)
         energy.append(row);
@@ -295,6 +303,7 @@ namespace twinflow::sph
 
       if (!restart)
       {
+        energy_budget.append({0.0, 0.0, 0.0, 0.0, 0.0, 0.0});
         monitors(0, 0, nullptr);
         snapshot(0);
         write(0);
@@ -395,6 +404,7 @@ namespace twinflow::sph
         budget.pressure += r.budget.pressure;
         budget.potential += r.budget.potential;
         budget.shifting += r.budget.shifting;
+        energy_budget.append({t, budget.viscous, budget.body_force, budget.pressure, budget.potential, budget.shifting});
         if (open.active())
         {
           engine->get_particles(P);

@@ -1,0 +1,43 @@
+#!/usr/bin/env python3
+"""Closure of the SPH energy budget: at every step the five columns of energy_budget.csv
+(viscous, body force work, pressure correction, potential of the move, shifting; sums from
+t = 0) add up to the change of the total energy in energy.csv, to round-off. Prints the
+largest positive contribution of each term over the run, so a gain can be traced to its step.
+
+usage: check_energy_budget.py energy.csv energy_budget.csv
+"""
+import math
+import sys
+
+sys.path.insert(0, __file__.rsplit("/", 1)[0])
+from compare_csv import read  # noqa: E402
+
+
+def main():
+    eh, erows = read(sys.argv[1])
+    bh, brows = read(sys.argv[2])
+    total = [h.split(" [")[0] for h in eh].index("total energy")
+    names = [h.split(" [")[0] for h in bh][1:]
+    if len(erows) != len(brows) or not erows:
+        print(f"energy.csv has {len(erows)} rows, energy_budget.csv {len(brows)}: they must match, one per step")
+        return 1
+    e0 = erows[0][total]
+    scale = max(abs(e0), max(abs(r[total] - e0) for r in erows), 1e-300)
+    worst, worst_t = 0.0, 0.0
+    for er, br in zip(erows, brows):
+        if abs(er[0] - br[0]) > 1e-12 * max(1.0, abs(er[0])):
+            print(f"time {br[0]} of energy_budget.csv does not match {er[0]} of energy.csv")
+            return 1
+        gap = abs(sum(br[1:]) - (er[total] - e0))
+        if not math.isfinite(gap) or gap > worst:
+            worst, worst_t = gap, er[0]
+    print(f"budget closure: largest |sum of terms - (E - E0)| = {worst:.3e} J at t = {worst_t:.4g} s "
+          f"(relative to {scale:.4g} J: {worst / scale:.1e}; tolerance 1e-9)")
+    peak = max(range(len(erows)), key=lambda k: erows[k][total])
+    print(f"at the energy peak t = {erows[peak][0]:.4g} s (E - E0 = {erows[peak][total] - e0:.4g} J): " +
+          ", ".join(f"{n} {v:.4g}" for n, v in zip(names, brows[peak][1:])))
+    return 0 if math.isfinite(worst) and worst <= 1e-9 * scale else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
