@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Closure of the SPH energy budget: at every step the five columns of energy_budget.csv
 (viscous, body force work, pressure correction, potential of the move, shifting; sums from
-t = 0) add up to the change of the total energy in energy.csv, to round-off. Prints the
+t = 0) add up to the change of the total energy in energy.csv, to round-off (both measured
+from the files' first row: a run restarted into another directory starts them at its restart). Prints the
 largest positive contribution of each term over the run, so a gain can be traced to its step.
 
 usage: check_energy_budget.py energy.csv energy_budget.csv
@@ -28,7 +29,7 @@ def main():
         if abs(er[0] - br[0]) > 1e-12 * max(1.0, abs(er[0])):
             print(f"time {br[0]} of energy_budget.csv does not match {er[0]} of energy.csv")
             return 1
-        gap = abs(sum(br[1:]) - (er[total] - e0))
+        gap = abs(sum(br[1:]) - sum(brows[0][1:]) - (er[total] - e0))
         if not math.isfinite(gap) or gap > worst:
             worst, worst_t = gap, er[0]
     print(f"budget closure: largest |sum of terms - (E - E0)| = {worst:.3e} J at t = {worst_t:.4g} s "
