@@ -162,6 +162,17 @@ namespace twinflow
     prm.declare_entry("Number of solids", "0", Patterns::Integer(0, 4), "Solids in the scene (each in 'Solid N').");
     prm.declare_entry("Sub-steps per fluid step", "10", Patterns::Integer(1, 1000),
                       "RK4 steps of each rigid body within one fluid step (the fluid load is held over them).");
+    prm.declare_entry("Wall contact", "true", Patterns::Bool(),
+                      "Rigid bodies touch the domain's walls: after each sub-step a body that reaches a wall gets the "
+                      "impulse that stops its approach there (with the restitution and friction below) and is put "
+                      "back on the wall (sequential impulses). false: a body that reaches a wall stops the run "
+                      "with an error.");
+    prm.declare_entry("Wall contact restitution", "0", Patterns::Double(0, 1),
+                      "Coefficient of restitution e of a body's impact on a wall: the normal velocity after an impact "
+                      "is -e times the one before (0: it stays on the wall, as a wet impact nearly does). Impacts "
+                      "slower than two sub-steps of free fall are inelastic, so a resting body does not chatter.");
+    prm.declare_entry("Wall contact friction", "0", Patterns::Double(0),
+                      "Coulomb friction coefficient mu of a body on a wall (0: frictionless, it slides freely).");
     for (int i = 1; i <= 4; ++i)
     {
       prm.enter_subsection("Solid " + std::to_string(i));
@@ -348,6 +359,9 @@ namespace twinflow
     prm.enter_subsection("Solids");
     const int n_solids = prm.get_integer("Number of solids");
     s.solid_substeps   = prm.get_integer("Sub-steps per fluid step");
+    s.wall_contact        = prm.get_bool("Wall contact");
+    s.contact_restitution = prm.get_double("Wall contact restitution");
+    s.contact_friction    = prm.get_double("Wall contact friction");
     for (int i = 1; i <= n_solids; ++i)
     {
       const std::string path = "Solids/Solid " + std::to_string(i);

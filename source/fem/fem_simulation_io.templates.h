@@ -303,6 +303,8 @@ namespace twinflow::fem
     {
       body_monitor->summarise(summary, result.monitors);
       summary.set_extra("rigid-body RK4 sub-steps", double(coupling->substeps_taken()));
+      summary.set_extra("rigid-body sub-steps touching a wall", double(coupling->contact_substeps()));
+      summary.set_extra("rigid-body deepest wall penetration before projection [m]", coupling->max_contact_depth());
       summary.set_extra("coupling: Navier-Stokes solves per step",
                         coupling_steps > 0 ? double(coupling_solves) / coupling_steps : 0.0);
       summary.set_extra("coupling: steps not converged", double(coupling_unconverged));

@@ -35,7 +35,21 @@ namespace twinflow::solids
     const int    dim  = scene.dimension;
     const double span = dim == 3 ? scene.domain.upper[2] - scene.domain.lower[2] : 1.0;
     const double rho_fluid = scene.fluids.empty() ? 0.0 : scene.fluids.front().density;
-    n_substeps = scene.solid_substeps;
+    n_substeps   = scene.solid_substeps;
+    wall_contact = scene.wall_contact;
+    restitution  = scene.contact_restitution;
+    friction     = scene.contact_friction;
+    if (!(restitution >= 0 && restitution <= 1) || !(friction >= 0))
+      throw std::invalid_argument("Solids/Wall contact restitution must lie in [0, 1] and Solids/Wall contact friction be >= 0 "
+                                  "(got " + std::to_string(restitution) + ", " + std::to_string(friction) + ")");
+    gravity = std::sqrt(scene.gravity[0] * scene.gravity[0] + scene.gravity[1] * scene.gravity[1] +
+                        (dim == 3 ? scene.gravity[2] * scene.gravity[2] : 0.0));
+    for (int d = 0; d < std::min(dim, 2); ++d) // bodies are extrusions along z
+    {
+      wall_active[d] = !scene.periodic[d];
+      wall_lower[d]  = scene.domain.lower[d];
+      wall_upper[d]  = scene.domain.upper[d];
+    }
     for (std::size_t k = 0; k < scene.solids.size(); ++k)
     {
       const Solid &s = scene.solids[k];
@@ -62,6 +76,15 @@ namespace twinflow::solids
       names.push_back(s.name);
       added_mass.push_back(ma);
       extent.push_back(s.shape == "disk" || s.shape == "cylinder" ? s.radius : 0.5 * std::hypot(s.length, s.thickness));
+      ContactShape shape;
+      shape.inradius = s.shape == "disk" || s.shape == "cylinder" ? s.radius : 0.5 * std::min(s.length, s.thickness);
+      if (s.shape == "disk" || s.shape == "cylinder")
+        shape.radius = s.radius;
+      else
+        for (const double a : {-0.5, 0.5})
+          for (const double c : {-0.5, 0.5})
+            shape.corners.emplace_back(a * s.length, c * s.thickness, 0.0);
+      shapes.push_back(shape);
     }
   }
 
@@ -80,9 +103,102 @@ namespace twinflow::solids
     for (std::size_t b = 0; b < bodies.size(); ++b)
     {
       bodies[b].set_load(loads[b].force, loads[b].torque);
-      bodies[b].advance(dt, n_substeps);
+      if (wall_contact)
+        bodies[b].advance(dt, n_substeps, [&, b](RigidBody &body) { resolve_wall_contacts(body, b, dt / n_substeps); });
+      else
+        bodies[b].advance(dt, n_substeps);
       taken += n_substeps;
     }
+  }
+
+  void CoSimulation::resolve_wall_contacts(RigidBody &body, const std::size_t b, const double h)
+  {
+    struct Contact
+    {
+      Vector3 p, n;
+      double  depth, target, k_n, lambda = 0;
+      Vector3 t = Vector3::Zero();
+      double  k_t = 0, lambda_t = 0;
+    };
+    std::vector<Contact> found;
+    const Vector3       &c = body.state().position;
+    const Matrix3        R = body.rotation();
+    for (int d = 0; d < 2; ++d)
+      for (const bool low : {true, false})
+      {
+        if (!wall_active[d])
+          continue;
+        const double  wall = low ? wall_lower[d] : wall_upper[d];
+        const Vector3 n    = (low ? 1.0 : -1.0) * Vector3::Unit(d); // into the domain
+        auto add = [&](const Vector3 &p) {
+          const double depth = -n[d] * (p[d] - wall);
+          if (depth > 0)
+            found.push_back(Contact{p, n, depth, 0, 0});
+        };
+        if (shapes[b].radius > 0)
+          add(c - shapes[b].radius * n);
+        else
+          for (const Vector3 &q : shapes[b].corners)
+            add(c + R * q);
+      }
+    if (found.empty())
+      return;
+    ++contacts;
+    // Sequential impulses: each contact's normal velocity is driven to its target (−e times its
+    // approach speed; inelastic below two sub-steps of free fall) by an accumulated impulse kept
+    // >= 0; friction's accumulated impulse along the initial sliding direction is kept within
+    // μ times the normal one.
+    const double slow = 2 * gravity * h;
+    for (Contact &k : found)
+    {
+      deepest       = std::max(deepest, k.depth);
+      const double vn = k.n.dot(body.point_velocity(k.p));
+      k.target      = vn < -slow ? -restitution * vn : 0.0;
+      k.k_n         = k.n.dot(body.impulse_response(k.n, k.p));
+      const Vector3 vt = body.point_velocity(k.p) - vn * k.n;
+      if (friction > 0 && vt.norm() > 0)
+      {
+        k.t   = vt.normalized();
+        k.k_t = k.t.dot(body.impulse_response(k.t, k.p));
+      }
+    }
+    for (int pass = 0; pass < 20; ++pass)
+    {
+      double change = 0; // largest impulse change of this pass, as a velocity [m/s]
+      for (Contact &k : found)
+      {
+        if (k.k_n > 0)
+        {
+          const double vn = k.n.dot(body.point_velocity(k.p));
+          const double l  = std::max(0.0, k.lambda + (k.target - vn) / k.k_n);
+          body.apply_impulse((l - k.lambda) * k.n, k.p);
+          change   = std::max(change, std::abs(l - k.lambda) * k.k_n);
+          k.lambda = l;
+        }
+        if (k.k_t > 0)
+        {
+          const double vt    = k.t.dot(body.point_velocity(k.p));
+          const double bound = friction * k.lambda;
+          const double l     = std::clamp(k.lambda_t - vt / k.k_t, -bound, bound);
+          body.apply_impulse((l - k.lambda_t) * k.t, k.p);
+          change     = std::max(change, std::abs(l - k.lambda_t) * k.k_t);
+          k.lambda_t = l;
+        }
+      }
+      if (change <= 1e-6 * slow) // converged to a millionth of a sub-step's fall (one contact: the first pass)
+        break;
+    }
+    // back onto each wall crossed (the deepest point of each)
+    for (int d = 0; d < 2; ++d)
+      for (const double side : {1.0, -1.0})
+      {
+        double depth = 0;
+        for (const Contact &k : found)
+          if (k.n[d] == side)
+            depth = std::max(depth, k.depth);
+        if (depth > 0)
+          body.translate(side * depth * Vector3::Unit(d));
+      }
   }
 
   double CoSimulation::weight_scale(const double gravity) const
@@ -159,14 +275,21 @@ namespace twinflow::solids
       {
         if (scene.periodic[d])
           continue;
-        const bool low = c[d] - extent[b] <= scene.domain.lower[d], high = c[d] + extent[b] >= scene.domain.upper[d];
+        // with contact the body only touches a wall; its centre within half its extent of one
+        // means the contact failed (it cannot happen with the projection: a guard)
+        const double reach = wall_contact ? 0.5 * shapes[b].inradius : extent[b];
+        const bool   low = c[d] - reach <= scene.domain.lower[d], high = c[d] + reach >= scene.domain.upper[d];
         if (low || high)
         {
+          if (wall_contact)
+            throw std::runtime_error("rigid body '" + names[b] + "' went through the " + faces[2 * d + (high ? 1 : 0)] +
+                                     " wall at t = " + std::to_string(bodies[b].time()) +
+                                     " s although wall contact is on: the fluid load diverged (reduce the time step)");
           std::ostringstream m;
           m << "rigid body '" << names[b] << "' reached the " << faces[2 * d + (high ? 1 : 0)] << " wall at t = "
             << bodies[b].time() << " s (centre " << c[d] << " m along " << "xyz"[d]
-            << "): there is no solid-wall contact model; the run stops here (a body denser than the fluid sinks to "
-               "the floor: end the scene before it lands, or lock its vertical degree of freedom)";
+            << "): wall contact is off (Solids/Wall contact = false), so the run stops here (turn it on, end the "
+               "scene before the body lands, or lock its vertical degree of freedom)";
           throw std::runtime_error(m.str());
         }
       }
@@ -206,6 +329,8 @@ namespace twinflow::solids
         if (bodies[b].dofs().free[i])
           s << " " << dof[i];
       s << "; RK4, " << n_substeps << " sub-steps per fluid step; explicit force-displacement coupling";
+      if (wall_contact)
+        s << "; wall contact (impulses, e = " << restitution << ", mu = " << friction << ")";
       if (added_mass[b] > 0)
         s << " with Soeding's added-mass correction m_a = " << added_mass[b] << " kg";
       s << ")";

@@ -121,6 +121,13 @@ namespace twinflow::solids
       return Iw.ldlt().solve(s.angular_momentum);
     if (k == 0)
       return Vector3::Zero();
+    if (k == 1) // a planar body: ω along its one free axis (the same division as the 1×1 solve below)
+    {
+      const int i = mask.free[3] ? 0 : (mask.free[4] ? 1 : 2);
+      Vector3   w = Vector3::Zero();
+      w[i]        = s.angular_momentum[i] / Iw(i, i);
+      return w;
+    }
     // ω = P (Pᵀ I_w P)⁻¹ Pᵀ L over the free axes
     Eigen::MatrixXd P(3, k);
     for (int i = 0, c = 0; i < 3; ++i)
@@ -172,11 +179,31 @@ namespace twinflow::solids
     return out;
   }
 
-  void RigidBody::advance(const double dt, const int substeps)
+  void RigidBody::apply_impulse(const Vector3 &J, const Vector3 &p)
+  {
+    const Vector3 w0 = omega(x);
+    const Vector3 dv = translation_projector * J / props.mass;
+    x.velocity += dv;
+    x.angular_momentum += rotation_projector * (p - x.position).cross(J);
+    impulse_dv += dv;
+    impulse_dw += omega(x) - w0;
+  }
+
+  Vector3 RigidBody::impulse_response(const Vector3 &J, const Vector3 &p) const
+  {
+    RigidBodyState d = x; // ω is linear in L at a fixed orientation
+    d.angular_momentum = rotation_projector * (p - x.position).cross(J);
+    return translation_projector * J / props.mass + omega(d).cross(p - x.position);
+  }
+
+  void RigidBody::translate(const Vector3 &d) { x.position += translation_projector * d; }
+
+  void RigidBody::advance(const double dt, const int substeps, const std::function<void(RigidBody &)> &after_substep)
   {
     if (!(dt > 0) || substeps < 1)
       throw std::invalid_argument("rigid body: advance needs dt > 0 and at least one sub-step");
     const double h = dt / substeps;
+    impulse_dv = impulse_dw = Vector3::Zero();
     for (int n = 0; n < substeps; ++n)
     {
       const Rate     k1 = rate(x);
@@ -191,9 +218,14 @@ namespace twinflow::solids
       x    = add(x, k, h);
       x.orientation.normalize();
       t += h;
+      if (after_substep)
+        after_substep(*this);
     }
-    const Vector3 a = linear_acceleration();
-    last_angular_acceleration = angular_acceleration();
+    // the load's acceleration plus the mean of the contact impulses over the step: the body's
+    // actual acceleration (a body resting on the floor: zero), which the fluid's boundary
+    // condition and Söding's term need
+    const Vector3 a = linear_acceleration() + impulse_dv / dt;
+    last_angular_acceleration = angular_acceleration() + impulse_dw / dt;
     last_acceleration         = a;
   }
 

@@ -504,6 +504,8 @@ namespace twinflow::sph
       {
         body_monitor->summarise(summary, result.monitors);
         summary.set_extra("rigid-body RK4 sub-steps", double(coupling->substeps_taken()));
+        summary.set_extra("rigid-body sub-steps touching a wall", double(coupling->contact_substeps()));
+        summary.set_extra("rigid-body deepest wall penetration before projection [m]", coupling->max_contact_depth());
       }
       summary.set_monitor_values(result.monitors);
       {

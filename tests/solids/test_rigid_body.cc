@@ -279,3 +279,141 @@ TEST(RigidBody, MassProperties)
   EXPECT_NEAR(c.mass * 9.8, 62.07, 0.01); // the falling cylinder's weight of BENCHMARKS.md
   EXPECT_NEAR(c.inertia(2, 2), 0.5 * c.mass * 0.0144, 1e-12);
 }
+
+// Wall contact (coupling.h): bodies in an empty tank (no fluid load) against its walls.
+namespace
+{
+  twinflow::Scene contact_tank(const std::string &shape, const double restitution, const double friction)
+  {
+    twinflow::Scene s;
+    s.dimension           = 2;
+    s.domain.lower        = {{0, 0, 0}};
+    s.domain.upper        = {{1, 1, 0}};
+    s.gravity             = {{0, -9.81, 0}};
+    s.solid_substeps      = 10;
+    s.contact_restitution = restitution;
+    s.contact_friction    = friction;
+    twinflow::Solid b;
+    b.name      = "body";
+    b.shape     = shape;
+    b.radius    = 0.1;
+    b.length    = 0.3;
+    b.thickness = 0.1;
+    b.motion    = twinflow::SolidMotion::rigid;
+    b.density   = 500;
+    b.center    = {{0.5, 0.5, 0}};
+    s.solids.push_back(b);
+    return s;
+  }
+
+  double energy(const CoSimulation &c) { return c.body(0).kinetic_energy() + c.body(0).potential_energy(); }
+
+  /// Advances @p steps fluid steps of @p dt with no fluid load; returns the largest energy rise
+  /// over the initial value and checks no wall is crossed by more than one sub-step's fall.
+  double run_in_air(CoSimulation &c, const twinflow::Scene &s, const int steps, const double dt)
+  {
+    const double e0 = energy(c);
+    double       rise = 0;
+    for (int n = 0; n < steps; ++n)
+    {
+      c.advance(dt, std::vector<BodyLoad>(1));
+      c.check_clear_of_walls(s);
+      rise = std::max(rise, energy(c) - e0);
+    }
+    return rise;
+  }
+} // namespace
+
+TEST(WallContact, InelasticDiskComesToRestOnTheFloor)
+{
+  twinflow::Scene s = contact_tank("disk", 0.0, 0.0);
+  CoSimulation    c(s);
+  const double    e0 = energy(c);
+  const double    rise = run_in_air(c, s, 1000, 2e-3); // falls 0.4 m in 0.29 s, then rests
+  const Vector3   x = c.body(0).state().position, v = c.body(0).state().velocity;
+  EXPECT_NEAR(x.y(), 0.1, 1e-9);               // on the floor, not in it
+  EXPECT_NEAR(x.x(), 0.5, 1e-12);              // a frictionless vertical impact
+  EXPECT_LT(v.norm(), 1e-12);                  // at rest
+  EXPECT_NEAR(c.body(0).acceleration().y(), 0, 1e-9); // the fluid sees a body at rest
+  EXPECT_LE(rise, 1e-9 * std::abs(e0) + 1e-12); // a contact never adds energy
+  EXPECT_GT(c.contact_substeps(), 0u);
+}
+
+TEST(WallContact, RestitutionSetsTheRebound)
+{
+  // dropped from 0.4 m above the floor: the impact speed is sqrt(2 g 0.4) = 2.80 m/s, the first
+  // rebound climbs e² 0.4 m
+  for (const double e : {0.5, 0.9})
+  {
+    twinflow::Scene s = contact_tank("disk", e, 0.0);
+    CoSimulation    c(s);
+    double          apex = 0, lowest = 1;
+    bool            bounced = false;
+    for (int n = 0; n < 2000 && !(bounced && c.body(0).state().velocity.y() < 0); ++n)
+    {
+      c.advance(1e-3, std::vector<BodyLoad>(1));
+      const double y = c.body(0).state().position.y();
+      lowest         = std::min(lowest, y);
+      if (c.body(0).state().velocity.y() > 0)
+        bounced = true;
+      if (bounced)
+        apex = std::max(apex, y);
+    }
+    EXPECT_GE(lowest, 0.1 - 1e-12);
+    // the impact falls within a sub-step (0.1 ms, 0.3 mm of travel): the apex to 1 %
+    EXPECT_NEAR((apex - 0.1) / 0.4, e * e, 0.01 * e * e) << "e = " << e;
+  }
+}
+
+TEST(WallContact, FrictionTurnsSlidingIntoRolling)
+{
+  // a disk on the floor sliding at v0 without spin: friction μ m g decelerates it and spins it
+  // up until it rolls, at v0 / (1 + I / (m R²)) = 2 v0 / 3 (a solid disk), after t = v0 / (3 μ g)
+  const double    v0 = 1.0, mu = 0.3, g = 9.81;
+  twinflow::Scene s = contact_tank("disk", 0.0, mu);
+  s.solids[0].center           = {{0.2, 0.1, 0}};
+  s.solids[0].initial_velocity = {{v0, 0, 0}};
+  CoSimulation c(s);
+  const double t_roll = v0 / (3 * mu * g), dt = 1e-3;
+  const int    steps  = int(std::round(1.5 * t_roll / dt));
+  const double e0     = energy(c);
+  for (int n = 0; n < steps; ++n)
+  {
+    c.advance(dt, std::vector<BodyLoad>(1));
+    EXPECT_LE(energy(c), e0 + 1e-9);
+  }
+  const Vector3 v = c.body(0).state().velocity, w = c.body(0).angular_velocity();
+  EXPECT_NEAR(v.x(), 2 * v0 / 3, 1e-3 * v0);
+  EXPECT_NEAR(-w.z() * 0.1, v.x(), 1e-3 * v0); // rolling: v = −ω_z R
+  EXPECT_NEAR(c.body(0).state().position.y(), 0.1, 1e-9);
+}
+
+TEST(WallContact, TiltedBoxSettlesOnTheFloorWithoutGainingEnergy)
+{
+  // a 0.3 x 0.1 box dropped tilted by 0.5 rad lands on a corner, rotates and comes to rest on a
+  // face: every corner above the floor (to the sub-step's fall), no energy gained at any step
+  twinflow::Scene s = contact_tank("box", 0.0, 0.5);
+  s.solids[0].angle = 0.5;
+  CoSimulation c(s);
+  const double e0   = energy(c);
+  const double rise = run_in_air(c, s, 3000, 1e-3);
+  EXPECT_LE(rise, 1e-9 * std::abs(e0) + 1e-12);
+  const Matrix3 R = c.body(0).rotation();
+  double        lowest = 1;
+  for (const double a : {-0.15, 0.15})
+    for (const double b : {-0.05, 0.05})
+      lowest = std::min(lowest, (c.body(0).state().position + R * Vector3(a, b, 0)).y());
+  EXPECT_NEAR(lowest, 0.0, 1e-6);
+  EXPECT_LT(c.body(0).kinetic_energy(), 1e-6 * std::abs(e0)); // at rest
+  EXPECT_NEAR(c.body(0).state().position.y(), 0.05, 1e-3);     // on its long face
+}
+
+TEST(WallContact, OffStopsTheRunAtTheWall)
+{
+  twinflow::Scene s = contact_tank("disk", 0.0, 0.0);
+  s.wall_contact    = false;
+  CoSimulation c(s);
+  EXPECT_THROW(run_in_air(c, s, 1000, 2e-3), std::runtime_error);
+  s.contact_restitution = 1.5;
+  EXPECT_THROW(CoSimulation bad(s), std::invalid_argument);
+}

@@ -80,6 +80,10 @@ namespace twinflow
 
     std::vector<Solid> solids;
     int                solid_substeps = 10; ///< rigid-body RK4 sub-steps per fluid step
+    /// Rigid bodies against the domain's walls (solids/coupling.h): contact on, its coefficient
+    /// of restitution and Coulomb friction coefficient.
+    bool               wall_contact = true;
+    double             contact_restitution = 0, contact_friction = 0;
 
     bool has_moving_solids() const;
 

@@ -14,6 +14,19 @@
  * m_a = C_a ρ_fluid V_body (Solids/Solid N/Added mass coefficient), stable for any C_a above
  * half the body's true added-mass coefficient minus its mass ratio, at no extra fluid solve.
  *
+ * Wall contact (Solids/Wall contact, default on): after each RK4 sub-step every point of a
+ * body's cross-section that lies beyond a non-periodic wall in x or y (a disk's or cylinder's
+ * point nearest the wall, a box's or plate's corners) is a contact. Sequential impulses
+ * (accumulated and clamped, 20 passes over the contacts) make each contact's normal velocity
+ * −e times its approach speed (e = 0 below the speed of two sub-steps of free fall, so a resting
+ * body does not chatter) and never pull; Coulomb friction (μ) clamps the tangential impulse to μ
+ * times the normal one. The body is then translated back onto each wall it crossed. Impulses
+ * only remove relative normal velocity (e ≤ 1) and friction only opposes sliding, so a contact
+ * never adds kinetic energy; the projection adds the potential energy of the sub-step's
+ * penetration (½ g h² for a body at rest), which the impulse took out as kinetic energy.
+ * The fluid's unresolved gap (thinner than a particle spacing or a cell) exerts no
+ * lubrication force: the contact is the rigid limit of that film.
+ *
  * Bodies are built from the scene's solids with Motion = rigid; `solids/` knows no fluid.
  */
 #include <twinflow/core/scene.h>
@@ -105,9 +118,14 @@ namespace twinflow::solids
     void advance(double dt, const std::vector<BodyLoad> &loads);
 
     /// Throws std::runtime_error naming the body, the wall and the time if a body's surface
-    /// reached a non-periodic face of @p scene's domain: there is no solid–wall contact model,
-    /// so a body that sinks to the floor (or is thrown against a wall) stops the run there.
+    /// reached a non-periodic face of @p scene's domain without wall contact (Solids/Wall
+    /// contact = false: a body that sinks to the floor stops the run there), or, with it, if a
+    /// body's centre got within half its inradius of a wall (the contact failed).
     void check_clear_of_walls(const Scene &scene) const;
+    /// Sub-steps in which some body touched a wall, and the largest penetration found before
+    /// a projection [m] (the contact's resolution).
+    std::size_t contact_substeps() const { return contacts; }
+    double      max_contact_depth() const { return deepest; }
 
     BodyKinematics          kinematics(std::size_t b) const;
     /// Largest speed of a material point on any body's surface, |v| + |ω| · extent (for the
@@ -131,6 +149,24 @@ namespace twinflow::solids
     std::vector<std::string> describe() const;
 
   private:
+    /// A body's cross-section for the wall contacts: a circle (radius > 0) or polygon corners
+    /// (body axes).
+    struct ContactShape
+    {
+      double               radius = 0;
+      std::vector<Vector3> corners;
+      double               inradius = 0; ///< smallest distance of the surface from the centre
+    };
+    /// Contacts of body @p b with the walls after a sub-step of length @p h.
+    void resolve_wall_contacts(RigidBody &body, std::size_t b, double h);
+
+    std::vector<ContactShape> shapes;
+    bool                     wall_contact = true;
+    double                   restitution = 0, friction = 0, gravity = 0;
+    double                   wall_lower[2] = {0, 0}, wall_upper[2] = {0, 0};
+    bool                     wall_active[2] = {false, false};
+    std::size_t              contacts = 0;
+    double                   deepest  = 0;
     std::vector<RigidBody>   bodies;
     std::vector<int>         solid_of_body;
     std::vector<std::string> names;

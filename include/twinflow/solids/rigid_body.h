@@ -29,6 +29,7 @@
 #include <Eigen/Geometry>
 
 #include <array>
+#include <functional>
 #include <string>
 
 namespace twinflow::solids
@@ -91,8 +92,18 @@ namespace twinflow::solids
     /// External load (the fluid's force, and torque about the centre of mass), held constant by advance().
     void set_load(const Vector3 &force, const Vector3 &torque);
 
-    /// Advances by @p dt in @p substeps equal RK4 steps with the current load.
-    void advance(double dt, int substeps = 1);
+    /// Advances by @p dt in @p substeps equal RK4 steps with the current load. @p after_substep,
+    /// if given, runs after each sub-step (the wall contacts of coupling.h apply their impulses
+    /// there); the velocity those impulses change is counted into the step's accelerations.
+    void advance(double dt, int substeps = 1, const std::function<void(RigidBody &)> &after_substep = {});
+
+    /// An impulse @p J [N s] at the world point @p p: v += J / m, L += (p − c) × J, locked degrees
+    /// of freedom dropped (the body's own mass and inertia: the fluid answers in its next step).
+    void apply_impulse(const Vector3 &J, const Vector3 &p);
+    /// Velocity change of the material point @p p that apply_impulse(J, p) would give (linear in J).
+    Vector3 impulse_response(const Vector3 &J, const Vector3 &p) const;
+    /// Moves the centre by @p d along the free translations (a contact's position projection).
+    void translate(const Vector3 &d);
 
     const RigidBodyState &state() const { return x; }
     /// Puts the body back into a saved state (a restart): the state and the last step's
@@ -144,5 +155,6 @@ namespace twinflow::solids
     Vector3        force = Vector3::Zero(), torque = Vector3::Zero();
     double         added_mass = 0, added_inertia = 0;
     Vector3        last_acceleration = Vector3::Zero(), last_angular_acceleration = Vector3::Zero();
+    Vector3        impulse_dv = Vector3::Zero(), impulse_dw = Vector3::Zero(); ///< within one advance()
   };
 } // namespace twinflow::solids
