@@ -148,7 +148,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
     double            dt = 0, rho0 = 0, alpha = 0, g[dim] = {};
     double            relaxation_time = 0; ///< time over which the density error is removed (≥ dt)
     bool              neumann         = false;
-    bool              rest_density_markers = false; ///< wall markers: ρ_b = ρ0 in Eq. 64 (else the summation density)
+    bool              rest_density_markers = false; ///< wall and body markers: ρ_b = ρ0 in Eq. 64 (else the summation density)
     const double     *surface_pressure = nullptr; ///< SurfacePressure of the surface rows (null: 0)
     int               pinned          = -1;
     double           *rhs             = nullptr;
@@ -181,8 +181,10 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
       // the surface row), not the fluid's: with it the markers beside the surface sat below the
       // hydrostatic field and the contact line of still water sank from the first step. The
       // standard operators' surface rows are one-sided anyway; ρ0 made their jitter worse
-      // (doc/benchmarks.md, "Still water at rest").
-      const bool rest_density = rest_density_markers && p.kind[i] == ParticleKind::wall;
+      // (doc/benchmarks.md, "Still water at rest"). A body's markers too (2026-12-07): at a
+      // floating body's waterline the same deficit left its markers low, and the heaving disk
+      // floated 4.2 % of r off Archimedes (0.6 % with ρ0; doc/benchmarks.md, "Wall contact").
+      const bool rest_density = rest_density_markers;
       double     s            = 0;
       for_each_neighbor(nb, i, [&](const int j, int, const Vec<dim> &r) {
         if (!p.fluid(j) || j == i)
