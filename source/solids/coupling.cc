@@ -75,10 +75,11 @@ namespace twinflow::solids
       solid_of_body.push_back(static_cast<int>(k));
       names.push_back(s.name);
       added_mass.push_back(ma);
-      extent.push_back(s.shape == "disk" || s.shape == "cylinder" ? s.radius : 0.5 * std::hypot(s.length, s.thickness));
+      const bool round = s.shape == "disk" || s.shape == "cylinder";
+      extent.push_back(round ? s.radius : 0.5 * std::hypot(s.length, s.thickness));
       ContactShape shape;
-      shape.inradius = s.shape == "disk" || s.shape == "cylinder" ? s.radius : 0.5 * std::min(s.length, s.thickness);
-      if (s.shape == "disk" || s.shape == "cylinder")
+      shape.inradius = round ? s.radius : 0.5 * std::min(s.length, s.thickness);
+      if (round)
         shape.radius = s.radius;
       else
         for (const double a : {-0.5, 0.5})
@@ -275,7 +276,7 @@ namespace twinflow::solids
       {
         if (scene.periodic[d])
           continue;
-        // with contact the body only touches a wall; its centre within half its extent of one
+        // with contact the body only touches a wall; its centre within half its inradius of one
         // means the contact failed (it cannot happen with the projection: a guard)
         const double reach = wall_contact ? 0.5 * shapes[b].inradius : extent[b];
         const bool   low = c[d] - reach <= scene.domain.lower[d], high = c[d] + reach >= scene.domain.upper[d];
