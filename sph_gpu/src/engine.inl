@@ -14,6 +14,7 @@
 #include <thrust/equal.h>
 #include <thrust/fill.h>
 #include <thrust/for_each.h>
+#include <thrust/gather.h>
 #include <thrust/iterator/counting_iterator.h>
 #include <thrust/iterator/transform_iterator.h>
 #include <thrust/reduce.h>
@@ -315,6 +316,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       r.inv_dt  = 1.0 / dt;
       r.half_nu = 0.5 * (settings.mu / settings.rho0);
       r.rhs     = ptr(rhs);
+      reduced.build(nl.offsets, nl.indices, values); // without the markers' prescribed rows
       for (int c = 0; c < dim; ++c)
       {
         thrust::transform(exec, u.begin(), u.end(), comp.begin(), detail::ExtractComponent<dim>{c});
@@ -322,7 +324,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
         r.c = c;
         r.f = settings.acceleration[c];
         for_each_particle(r);
-        report.velocity[c] = bicgstab(nl.offsets, nl.indices, values, rhs, comp, settings.velocity_solver);
+        report.velocity[c] = reduced.solve(rhs, comp, settings.velocity_solver);
         for_each_particle(detail::SetComponent<dim>{ptr(comp), ptr(u), c});
       }
     }
@@ -387,12 +389,18 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
         r.surface_pressure = compute_surface_pressure();
       for_each_particle(r);
       make_confined_rhs_compatible(); // confined flows only
+      // The free-surface rows and the dry markers' rows are known (p = p_s, p = 0): the solve runs
+      // over the other rows only (ReducedSystem), and so does the multigrid.
+      reduced.build(nl.offsets, nl.indices, values);
       const bool multigrid_on = settings.pressure_preconditioner == PressurePreconditioner::multigrid;
-      if (multigrid_on)
-        multigrid.setup(x, box, 2.0 * settings.h, nl.offsets, nl.indices, values);
+      if (multigrid_on && reduced.size() > 0)
+      {
+        x_reduced.resize(reduced.size());
+        thrust::gather(exec, reduced.kept().begin(), reduced.kept().end(), x.begin(), x_reduced.begin());
+        multigrid.setup(x_reduced, box, 2.0 * settings.h, reduced.offsets(), reduced.indices(), reduced.values());
+      }
       auto solve_with = [&](dvec<double> &solution, const SolverSettings &solver) {
-        return multigrid_on ? bicgstab(nl.offsets, nl.indices, values, rhs, solution, solver, multigrid)
-                            : bicgstab(nl.offsets, nl.indices, values, rhs, solution, solver);
+        return reduced.solve(rhs, solution, solver, multigrid_on ? &multigrid : nullptr);
       };
       auto solve = [&](dvec<double> &solution) { return solve_with(solution, settings.pressure_solver); };
       position_correction = settings.corrects_positions();
@@ -716,6 +724,8 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     NeighborList       nl;
     OperatorMatrices<dim> A;
     CellMultigrid<dim> multigrid;
+    ReducedSystem      reduced;   ///< the velocity's, then the pressure's system without its known rows
+    dvec<Vec<dim>>     x_reduced; ///< positions of the pressure system's kept rows (the multigrid's cells)
     dvec<Tensor2<dim>> G, L;
     dvec<Vec<dim>>     x, x_start, u, u_old, u_cont, u_approach, wall_velocity, wall_acceleration, normal;
     dvec<double>       pressure, surface_pressure, rhs_alpha, density_q, grad_q[dim], rho, support, V, rhs, tmp, comp, div_u, values, grad_p[dim];

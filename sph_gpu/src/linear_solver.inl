@@ -7,6 +7,7 @@
 #include <thrust/for_each.h>
 #include <thrust/inner_product.h>
 #include <thrust/iterator/counting_iterator.h>
+#include <thrust/scan.h>
 #include <thrust/transform_reduce.h>
 
 #include <cmath>
@@ -106,6 +107,84 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
 
     struct Csr { const dvec<int> &offsets, &indices; const dvec<double> &values; };
 
+    /// keep[i] = 1 unless row i's only non-zero is its (non-zero) diagonal; inv_diag[i] = 1 / A_ii.
+    struct ClassifyRow
+    {
+      const int *offsets, *indices; const double *values; int *keep; double *inv_diag;
+      TWINFLOW_HD void operator()(int i) const
+      {
+        double d = 0;
+        bool   coupled = false;
+        for (int k = offsets[i]; k < offsets[i + 1]; ++k)
+          if (indices[k] == i) d += values[k];
+          else coupled = coupled || values[k] != 0;
+        keep[i]     = coupled || d == 0;
+        inv_diag[i] = d != 0 ? 1 / d : 1;
+      }
+    };
+
+    /// full_row[reduced_row[i]] = i for the kept rows.
+    struct ListKept
+    {
+      const int *keep, *reduced_row; int *full_row;
+      TWINFLOW_HD void operator()(int i) const { if (keep[i]) full_row[reduced_row[i]] = i; }
+    };
+
+    /// Non-zero entries of kept row r in kept columns: counted (values_r null) or written.
+    struct ReduceRow
+    {
+      const int    *offsets = nullptr, *indices = nullptr;
+      const double *values = nullptr;
+      const int    *keep = nullptr, *reduced_row = nullptr, *full_row = nullptr;
+      int          *count = nullptr;     ///< first pass: entries per reduced row
+      int          *indices_r = nullptr; ///< second pass (values_r set): the entries
+      const int    *offsets_r = nullptr;
+      double       *values_r  = nullptr;
+      TWINFLOW_HD void operator()(int r) const
+      {
+        const int i = full_row[r];
+        int       m = 0;
+        for (int k = offsets[i]; k < offsets[i + 1]; ++k)
+          if (values[k] != 0 && keep[indices[k]])
+          {
+            if (values_r) indices_r[offsets_r[r] + m] = reduced_row[indices[k]], values_r[offsets_r[r] + m] = values[k];
+            ++m;
+          }
+        if (!values_r) count[r] = m;
+      }
+    };
+
+    /// known[i] = b_i / A_ii on the known rows, 0 on the kept ones.
+    struct KnownValue
+    {
+      const int *keep; const double *b, *inv_diag; double *known;
+      TWINFLOW_HD void operator()(int i) const { known[i] = keep[i] ? 0.0 : b[i] * inv_diag[i]; }
+    };
+
+    /// b_r[r] = b_i − Σ_j A_ij known_j and x_r[r] = x_i for i = full_row[r].
+    struct ReduceRhs
+    {
+      const int    *offsets = nullptr, *indices = nullptr;
+      const double *values = nullptr, *b = nullptr, *known = nullptr, *x = nullptr;
+      const int    *full_row = nullptr;
+      double       *b_r = nullptr, *x_r = nullptr;
+      TWINFLOW_HD void operator()(int r) const
+      {
+        const int i = full_row[r];
+        double    s = b[i];
+        for (int k = offsets[i]; k < offsets[i + 1]; ++k) s -= values[k] * known[indices[k]];
+        b_r[r] = s;
+        x_r[r] = x[i];
+      }
+    };
+
+    /// x_i = x_r of its reduced row, or its known value.
+    struct ExpandSolution
+    {
+      const int *keep, *reduced_row; const double *x_r, *known; double *x;
+      TWINFLOW_HD void operator()(int i) const { x[i] = keep[i] ? x_r[reduced_row[i]] : known[i]; }
+    };
+
     /// r = b − A x, returns ||r||.
     double residual(const Csr &A, const dvec<double> &b, const dvec<double> &x, dvec<double> &r)
     {
@@ -141,6 +220,61 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
   {
     if (z.size() != r.size()) z.resize(r.size());
     TWINFLOW_SPH_BACKEND::apply(int(r.size()), Scale{ptr(z), ptr(inv_diag), ptr(r)});
+  }
+
+  void ReducedSystem::build(const dvec<int> &offsets, const dvec<int> &indices, const dvec<double> &values)
+  {
+    n_full       = offsets.empty() ? 0 : int(offsets.size()) - 1;
+    full_offsets = ptr(offsets), full_indices = ptr(indices), full_values = ptr(values);
+    keep.resize(n_full), inv_diag.resize(n_full), reduced_row.resize(n_full);
+    for_index(n_full, ClassifyRow{full_offsets, full_indices, full_values, ptr(keep), ptr(inv_diag)}, kSerialRows);
+    thrust::exclusive_scan(exec, keep.begin(), keep.end(), reduced_row.begin());
+    n_kept = n_full == 0 ? 0 : int(reduced_row.back()) + int(keep.back());
+    full_row.resize(n_kept);
+    for_index(n_full, ListKept{ptr(keep), ptr(reduced_row), ptr(full_row)}, kSerialRows);
+    offsets_r.resize(n_kept + 1);
+    ReduceRow row;
+    row.offsets     = full_offsets;
+    row.indices     = full_indices;
+    row.values      = full_values;
+    row.keep        = ptr(keep);
+    row.reduced_row = ptr(reduced_row);
+    row.full_row    = ptr(full_row);
+    row.count       = ptr(offsets_r);
+    for_index(n_kept, row, kSerialRows); // counts into offsets_r[0, n_kept)
+    offsets_r.back() = 0;
+    thrust::exclusive_scan(exec, offsets_r.begin(), offsets_r.end(), offsets_r.begin());
+    indices_r.resize(offsets_r.back()), values_r.resize(offsets_r.back());
+    row.indices_r = ptr(indices_r);
+    row.offsets_r = ptr(offsets_r);
+    row.values_r  = ptr(values_r);
+    for_index(n_kept, row, kSerialRows);
+  }
+
+  SolverResult ReducedSystem::solve(const dvec<double> &b, dvec<double> &x, const SolverSettings &settings,
+                                    const Preconditioner *M)
+  {
+    if (int(x.size()) != n_full) x.assign(n_full, 0.0);
+    known.resize(n_full), b_r.resize(n_kept), x_r.resize(n_kept);
+    for_index(n_full, KnownValue{ptr(keep), ptr(b), ptr(inv_diag), ptr(known)}, kSerialEntries);
+    ReduceRhs reduce;
+    reduce.offsets  = full_offsets;
+    reduce.indices  = full_indices;
+    reduce.values   = full_values;
+    reduce.b        = ptr(b);
+    reduce.known    = ptr(known);
+    reduce.x        = ptr(x);
+    reduce.full_row = ptr(full_row);
+    reduce.b_r      = ptr(b_r);
+    reduce.x_r      = ptr(x_r);
+    for_index(n_kept, reduce, kSerialRows);
+    SolverResult result;
+    result.converged = true;
+    if (n_kept > 0)
+      result = M ? bicgstab(offsets_r, indices_r, values_r, b_r, x_r, settings, *M)
+                 : bicgstab(offsets_r, indices_r, values_r, b_r, x_r, settings);
+    for_index(n_full, ExpandSolution{ptr(keep), ptr(reduced_row), ptr(x_r), ptr(known), ptr(x)}, kSerialEntries);
+    return result;
   }
 
   SolverResult bicgstab(const dvec<int> &offsets, const dvec<int> &indices, const dvec<double> &values,

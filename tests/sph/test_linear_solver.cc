@@ -322,3 +322,46 @@ TEST(SphLinearSolver, BreakdownAndSingularReportedNotConverged)
     EXPECT_NEAR(res.residual, (c.b - c.A * xh).norm() / c.b.norm(), 1e-12) << c.name;
   }
 }
+
+// ReducedSystem: the rows with only a diagonal (free-surface particles, dry BCE markers) are
+// known; the kept rows are solved alone. An SPH-like system in which every third row is made
+// such a row, its off-diagonal entries kept as stored zeros as the engine's matrices keep them,
+// and some kept rows' entries zeroed too: the solution equals the full system's (SparseLU), the
+// known rows are exact, and the reduced matrix holds exactly the kept rows' non-zeros in kept columns.
+TEST(SphLinearSolver, ReducedSystemDropsKnownRows)
+{
+  std::mt19937 rng(8);
+  SpMat        A = sph_like(24, 0.05, rng);
+  const int    n = int(A.rows());
+  std::vector<bool> known(n);
+  for (int i = 0; i < n; ++i) known[i] = i % 3 == 1;
+  long expected_nnz = 0;
+  for (int i = 0; i < n; ++i)
+    for (SpMat::InnerIterator it(A, i); it; ++it)
+    {
+      if (known[i]) it.valueRef() = it.col() == i ? 2.0 : 0.0;
+      else if (it.col() != i && (i + it.col()) % 11 == 0) it.valueRef() = 0.0; // a stored zero of a kept row
+      expected_nnz += !known[i] && !known[it.col()] && it.value() != 0;
+    }
+  const Eigen::VectorXd   b = random_vector(n, rng);
+  Eigen::SparseLU<ColMat> lu{ColMat(A)};
+  ASSERT_EQ(lu.info(), Eigen::Success);
+  const Eigen::VectorXd exact = lu.solve(b);
+
+  const DeviceCsr    dA = to_device(A);
+  sph::cpu::ReducedSystem reduced;
+  reduced.build(dA.offsets, dA.indices, dA.values);
+  EXPECT_EQ(reduced.size(), n - n / 3);
+  EXPECT_EQ(long(reduced.values().size()), expected_nnz);
+  EXPECT_EQ(long(reduced.indices().size()), expected_nnz);
+  dvec<double>        x(n, 0.0);
+  sph::SolverSettings settings;
+  settings.tolerance = 1e-12;
+  const sph::SolverResult res = reduced.solve(to_device(b), x, settings);
+  EXPECT_TRUE(res.converged);
+  const Eigen::VectorXd h = to_host(x);
+  EXPECT_LT(relative(h, exact), 1e-9);
+  EXPECT_LT((b - A * h).norm() / b.norm(), 1e-11);
+  for (int i = 0; i < n; ++i)
+    if (known[i]) EXPECT_EQ(h[i], 0.5 * b[i]) << "row " << i;
+}

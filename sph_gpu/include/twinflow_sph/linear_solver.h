@@ -49,5 +49,38 @@ namespace twinflow::sph
     SolverResult bicgstab(const dvec<int> &offsets, const dvec<int> &indices, const dvec<double> &values,
                           const dvec<double> &b, dvec<double> &x, const SolverSettings &settings,
                           const Preconditioner &M);
+
+    /// A x = b without its known rows. A row whose only non-zero is its diagonal (a free-surface
+    /// particle's p = p_s, a BCE marker with no fluid in its support, a prescribed velocity) fixes
+    /// x_i = b_i / A_ii; in a dam break those are ~40 % of the pressure rows, and the zero entries
+    /// of the marker–marker pairs another ~35 % of the matrix. build() keeps the other rows and their
+    /// non-zero entries in a compact CSR; solve() moves the known columns to the right-hand side,
+    /// solves the kept rows by BiCGStab from the kept part of x and writes every row of x back.
+    /// The solution is that of the full system; a Krylov iteration over it has the same iterates
+    /// on the kept rows (the known rows are exact from the start), at ~60 % of the cost.
+    class ReducedSystem
+    {
+    public:
+      void build(const dvec<int> &offsets, const dvec<int> &indices, const dvec<double> &values);
+      /// Rows of the reduced system.
+      int size() const { return n_kept; }
+      /// kept()[r]: the row of the full system that reduced row r is.
+      const dvec<int> &kept() const { return full_row; }
+      const dvec<int> &offsets() const { return offsets_r; }
+      const dvec<int> &indices() const { return indices_r; }
+      const dvec<double> &values() const { return values_r; }
+      /// Solves the full system A x = b (x: the initial guess of the kept rows) through the
+      /// reduced one, preconditioned by @p M (built on the reduced matrix) or, if null, Jacobi.
+      /// The result's residual is that of the kept rows (the known rows have none).
+      SolverResult solve(const dvec<double> &b, dvec<double> &x, const SolverSettings &settings,
+                         const Preconditioner *M = nullptr);
+
+    private:
+      int          n_full = 0, n_kept = 0;
+      const int   *full_offsets = nullptr, *full_indices = nullptr; ///< the matrix of the last build
+      const double *full_values = nullptr;
+      dvec<int>    keep, reduced_row, full_row, offsets_r, indices_r;
+      dvec<double> inv_diag, values_r, known, b_r, x_r;
+    };
   } // namespace TWINFLOW_SPH_BACKEND
 } // namespace twinflow::sph
