@@ -54,6 +54,16 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
     }
   };
 
+  /// out[i] = 1 where particle i's rows of A^G, A^L are read: fluid particles and the BCE
+  /// markers with fluid in their support (Eq. 62–67 rows, the Neumann variant's gradient).
+  template <int dim>
+  struct NeedsOperatorRow
+  {
+    ParticleView<dim> p; ///< kind, support
+    int              *out = nullptr;
+    TWINFLOW_HD void operator()(int i) const { out[i] = p.fluid(i) || p.support[i] > 0 ? 1 : 0; }
+  };
+
   /// Velocity system of Eq. 56 (fluid rows) and Eq. 62–63 (BCE rows), matrix values.
   template <int dim>
   struct VelocityMatrix

@@ -230,9 +230,16 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       int              *fallback = nullptr;
       CorrectionChecks  checks;
       const int        *surface = nullptr; ///< free-surface flags (null: none, a confined flow)
+      const int        *rows    = nullptr; ///< rows[i] = 0: not needed, G_i = L_i = I (null: all)
 
       TWINFLOW_HD void operator()(const int i) const
       {
+        if (rows && !rows[i])
+        {
+          G[i] = L[i] = identity<dim>();
+          fallback[i] = 0;
+          return;
+        }
         // One pass over the neighbours gathers every moment; G_i only enters afterwards, since
         // A^{kmn} = G^{kq} B^{qmn} and Eq. 25's matrix is K1 + A·K2 (below).
         //   (G^{-1})^{mn} = −Σ_j r^m ∇_n W V_j
@@ -371,9 +378,20 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       const Tensor2<dim> *G = nullptr, *L = nullptr;
       double             *grad[dim] = {};
       double             *lap       = nullptr;
+      const int          *rows      = nullptr; ///< rows[i] = 0: a zero row (null: all rows)
 
       TWINFLOW_HD void operator()(const int i) const
       {
+        if (rows && !rows[i])
+        {
+          for (int k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k)
+          {
+            for (int d = 0; d < dim; ++d)
+              grad[d][k] = 0;
+            lap[k] = 0;
+          }
+          return;
+        }
         Tensor2<dim> Gi = identity<dim>(), Li = identity<dim>();
         if (consistent)
         {
@@ -464,7 +482,8 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
   template <int dim>
   int compute_corrections(const dvec<Vec<dim>> &x, const dvec<double> &V, const NeighborList &nl,
                           const DomainBox<dim> &box, const CubicSpline<dim> &W, dvec<Tensor2<dim>> &G,
-                          dvec<Tensor2<dim>> &L, const CorrectionChecks &checks, const dvec<int> *surface)
+                          dvec<Tensor2<dim>> &L, const CorrectionChecks &checks, const dvec<int> *surface,
+                          const dvec<int> *rows)
   {
     const int n = static_cast<int>(x.size());
     G.resize(n);
@@ -480,6 +499,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     f.fallback = ptr(fallback);
     f.checks   = checks;
     f.surface  = surface ? ptr(*surface) : nullptr;
+    f.rows     = rows ? ptr(*rows) : nullptr;
     thrust::counting_iterator<int> first(0);
     thrust::for_each(exec, first, first + n, f);
     return thrust::reduce(exec, fallback.begin(), fallback.end(), 0);
@@ -488,7 +508,8 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
   template <int dim>
   void assemble_operators(const dvec<Vec<dim>> &x, const dvec<double> &V, const NeighborList &nl,
                           const DomainBox<dim> &box, const CubicSpline<dim> &W, const OperatorKind kind,
-                          const dvec<Tensor2<dim>> &G, const dvec<Tensor2<dim>> &L, OperatorMatrices<dim> &A)
+                          const dvec<Tensor2<dim>> &G, const dvec<Tensor2<dim>> &L, OperatorMatrices<dim> &A,
+                          const dvec<int> *rows)
   {
     const int         n         = static_cast<int>(x.size());
     const std::size_t n_entries = nl.indices.size();
@@ -505,7 +526,8 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     f.L          = f.consistent ? ptr(L) : nullptr;
     for (int d = 0; d < dim; ++d)
       f.grad[d] = ptr(A.gradient[d]);
-    f.lap = ptr(A.laplacian);
+    f.lap  = ptr(A.laplacian);
+    f.rows = rows ? ptr(*rows) : nullptr;
     thrust::counting_iterator<int> first(0);
     thrust::for_each(exec, first, first + n, f);
   }
@@ -516,11 +538,11 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
   template int  compute_corrections<dim>(const dvec<Vec<dim>> &, const dvec<double> &, const NeighborList &, \
                                         const DomainBox<dim> &, const CubicSpline<dim> &,                   \
                                         dvec<Tensor2<dim>> &, dvec<Tensor2<dim>> &,                         \
-                                        const CorrectionChecks &, const dvec<int> *);                     \
+                                        const CorrectionChecks &, const dvec<int> *, const dvec<int> *);  \
   template void assemble_operators<dim>(const dvec<Vec<dim>> &, const dvec<double> &, const NeighborList &,  \
                                         const DomainBox<dim> &, const CubicSpline<dim> &, OperatorKind,      \
                                         const dvec<Tensor2<dim>> &, const dvec<Tensor2<dim>> &,              \
-                                        OperatorMatrices<dim> &);
+                                        OperatorMatrices<dim> &, const dvec<int> *);
   TWINFLOW_SPH_OPERATORS_INSTANTIATE(2)
   TWINFLOW_SPH_OPERATORS_INSTANTIATE(3)
 #undef TWINFLOW_SPH_OPERATORS_INSTANTIATE

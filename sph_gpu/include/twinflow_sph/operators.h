@@ -43,17 +43,21 @@ namespace twinflow::sph
     /// `checks` (CorrectionChecks), an L_i that is not positive definite is replaced by I, and
     /// so is one with an eigenvalue above 4 where the particle or a neighbour is flagged in
     /// @p surface (free-surface particles; null: none). Returns the number of particles whose
-    /// G or L was replaced.
+    /// G or L was replaced. With @p rows, only the particles i with rows[i] ≠ 0 are computed;
+    /// the others get G = L = I (e.g. BCE markers with no fluid in their support, whose rows
+    /// no system uses).
     template <int dim>
     int compute_corrections(const dvec<Vec<dim>> &x, const dvec<double> &V, const NeighborList &nl,
                             const DomainBox<dim> &box, const CubicSpline<dim> &W, dvec<Tensor2<dim>> &G,
                             dvec<Tensor2<dim>> &L, const CorrectionChecks &checks = {},
-                            const dvec<int> *surface = nullptr);
+                            const dvec<int> *surface = nullptr, const dvec<int> *rows = nullptr);
 
-    /// Assembles A^G and A^L, standard (Eq. 19–20) or consistent (Eq. 22–23, using G, L).
+    /// Assembles A^G and A^L, standard (Eq. 19–20) or consistent (Eq. 22–23, using G, L). With
+    /// @p rows, the rows i with rows[i] = 0 are zero.
     template <int dim>
     void assemble_operators(const dvec<Vec<dim>> &x, const dvec<double> &V, const NeighborList &nl,
                             const DomainBox<dim> &box, const CubicSpline<dim> &W, OperatorKind kind,
-                            const dvec<Tensor2<dim>> &G, const dvec<Tensor2<dim>> &L, OperatorMatrices<dim> &A);
+                            const dvec<Tensor2<dim>> &G, const dvec<Tensor2<dim>> &L, OperatorMatrices<dim> &A,
+                            const dvec<int> *rows = nullptr);
   } // namespace TWINFLOW_SPH_BACKEND
 } // namespace twinflow::sph
