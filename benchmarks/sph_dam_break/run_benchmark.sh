@@ -10,14 +10,12 @@ backend=${2:-cpu}
 out=${OUT:-$root/output/sph_benchmark}
 dt=2e-4
 end=$(/usr/bin/python3 -c "print($steps * $dt)")
-scene=$(mktemp --suffix=.prm)
-sed -e "s/set End time         = 2.5/set End time         = $end/" \
-    -e "s/set Output interval  = 0.05/set Output interval  = 0/" \
-    -e "s/set CFL number        = 1/set CFL number        = 0/" \
-    -e "s/set Time step         = 2e-3/set Time step         = $dt\n  set Backend = $backend\n  set Max iterations = 20000/" \
-    "$root/parameters/dam_break.prm" > "$scene"
-"${TWINFLOW_BIN:-$root/build/twinflow}" "$scene" -o "$out"
-rm -f "$scene"
+# The committed scene with its step, output and method overridden (--set: robust to the scene's
+# own values changing); SPH alone, a fixed step, no CFL control, no snapshots.
+"${TWINFLOW_BIN:-$root/build/twinflow}" "$root/parameters/dam_break.prm" \
+    --set "Scene/Methods=sph" --set "Scene/End time=$end" --set "Scene/Output interval=0" \
+    --set "Scene/Snapshot times=" --set "SPH/CFL number=0" --set "SPH/Time step=$dt" \
+    --set "SPH/Backend=$backend" --set "SPH/Max iterations=20000" -o "$out"
 /usr/bin/python3 - "$out/sph/summary.json" <<'PY'
 import json, sys
 s = json.load(open(sys.argv[1]))
