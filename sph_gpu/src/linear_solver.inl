@@ -249,6 +249,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     row.offsets_r = ptr(offsets_r);
     row.values_r  = ptr(values_r);
     for_index(n_kept, row, kSerialRows);
+    jacobi_ready = false;
   }
 
   SolverResult ReducedSystem::solve(const dvec<double> &b, dvec<double> &x, const SolverSettings &settings,
@@ -271,8 +272,11 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     SolverResult result;
     result.converged = true;
     if (n_kept > 0)
-      result = M ? bicgstab(offsets_r, indices_r, values_r, b_r, x_r, settings, *M)
-                 : bicgstab(offsets_r, indices_r, values_r, b_r, x_r, settings);
+    {
+      if (!M && !jacobi_ready)
+        jacobi = JacobiPreconditioner(offsets_r, indices_r, values_r), jacobi_ready = true;
+      result = bicgstab(offsets_r, indices_r, values_r, b_r, x_r, settings, M ? *M : jacobi);
+    }
     for_index(n_full, ExpandSolution{ptr(keep), ptr(reduced_row), ptr(x_r), ptr(known), ptr(x)}, kSerialEntries);
     return result;
   }

@@ -33,6 +33,7 @@ namespace twinflow::sph
     class JacobiPreconditioner : public Preconditioner
     {
     public:
+      JacobiPreconditioner() = default;
       JacobiPreconditioner(const dvec<int> &offsets, const dvec<int> &indices, const dvec<double> &values);
       void apply(const dvec<double> &r, dvec<double> &z) const override;
 
@@ -70,7 +71,8 @@ namespace twinflow::sph
       const dvec<int> &indices() const { return indices_r; }
       const dvec<double> &values() const { return values_r; }
       /// Solves the full system A x = b (x: the initial guess of the kept rows) through the
-      /// reduced one, preconditioned by @p M (built on the reduced matrix) or, if null, Jacobi.
+      /// reduced one, preconditioned by @p M (built on the reduced matrix) or, if null, Jacobi
+      /// (built once per build(): the velocity's components share it).
       /// The result's residual is that of the kept rows (the known rows have none).
       SolverResult solve(const dvec<double> &b, dvec<double> &x, const SolverSettings &settings,
                          const Preconditioner *M = nullptr);
@@ -81,6 +83,8 @@ namespace twinflow::sph
       const double *full_values = nullptr;
       dvec<int>    keep, reduced_row, full_row, offsets_r, indices_r;
       dvec<double> inv_diag, values_r, known, b_r, x_r;
+      JacobiPreconditioner jacobi;          ///< of the reduced matrix, when a solve needs it
+      bool                 jacobi_ready = false;
     };
   } // namespace TWINFLOW_SPH_BACKEND
 } // namespace twinflow::sph
