@@ -29,7 +29,9 @@ namespace twinflow::sph
     prm.declare_entry("Particle spacing", to_string(d.spacing), Patterns::Double(0), "Initial inter-particle distance [m], > 0.");
     prm.declare_entry("Smoothing length ratio", to_string(d.h_over_dx), Patterns::Double(0.5, 3), "h / spacing (kernel support 2h).");
     prm.declare_entry("Operators", d.consistent ? "consistent" : "standard", Patterns::Selection("consistent|standard"),
-                      "Discrete gradient/Laplacian: consistent (Eq. 22-26) or standard (Eq. 19-20).");
+                      "Discrete gradient/Laplacian: consistent (Eq. 22-26) or standard (Eq. 19-20; the kernel "
+                      "gradient scaled to the trace of Eq. 24, exact for a linear field on a regular lattice, and the "
+                      "rows a free surface truncates assembled consistent, without which still water never rests).");
     prm.declare_entry("Alpha", to_string(d.alpha), Patterns::Double(0, 1),
                       "Weight of the density-invariance source in the pressure equation (Eq. 55/57).");
     prm.declare_entry("Density error correction", density_correction_names[static_cast<int>(d.density_correction)],
@@ -38,9 +40,8 @@ namespace twinflow::sph
                       "moves the particles, the velocity is projected with Alpha = 0: the correction adds no kinetic "
                       "energy; one more solve per step, for the density-error part q = p_Alpha - p to 1e-2 of its "
                       "right-hand side), velocity (Eq. 55 as written), or auto: position "
-                      "for the consistent operators where the scene has a free surface, velocity otherwise (in a "
-                      "confined flow the velocity form keeps particles out of small bodies; the standard operators' "
-                      "still water is worse with the position form).");
+                      "where the scene has a free surface, velocity otherwise (in a confined flow the velocity form "
+                      "keeps particles out of small bodies).");
     prm.declare_entry("Wall pressure condition", d.neumann_walls ? "neumann" : "bce", Patterns::Selection("bce|neumann"),
                       "BCE markers' pressure rows: force balance (Eq. 64-65) or zero normal gradient (Eq. 66-67).");
     prm.declare_entry("Free-surface density ratio", to_string(d.free_surface_ratio), Patterns::Double(0, 1),
@@ -80,13 +81,13 @@ namespace twinflow::sph
                       "such a particle at the edge of colliding splash sheets, or of a tear between separating "
                       "streams, ejects it (spray kicks). Not next to a solid.");
     prm.declare_entry("Wetted walls", d.wetted_walls ? "true" : "false", Patterns::Bool(),
-                      "Consistent operators: wall BCE markers hold the liquid that wets them: their force-balance "
+                      "Wall BCE markers hold the liquid that wets them: their force-balance "
                       "pressure (Eq. 64) uses rho0 instead of the fluid's summation density, and each wall "
                       "marker mirrors the fluid's motion away from the wall (up to |g| dt) as well as towards "
                       "it. Keeps still water in a walled tank at rest (without it the "
                       "tank diverges at t = 2.4 s).");
     prm.declare_entry("Free-surface offset", d.surface_offset ? "true" : "false", Patterns::Bool(),
-                      "Consistent operators: p = 0 lies half a spacing above the free-surface particles (the top "
+                      "p = 0 lies half a spacing above the free-surface particles (the top "
                       "of the liquid they hold), so they carry p = dx/2 dp/dn from the liquid beneath, hydrostatic "
                       "at most, zero in free fall. false: p = 0 at their centres (the paper's form), which leaves the "
                       "whole pressure field rho |g| dx/2 low: a floating body sinks by dx/2.");

@@ -291,8 +291,19 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       if (settings.consistent)
         report.correction_fallbacks = compute_corrections<dim>(x, V, nl, box, W, G, L, settings.correction_checks,
                                                                settings.free_surface ? &surface : nullptr, &operator_rows);
+      else if (settings.free_surface)
+      {
+        // Standard operators: the rows a free surface truncates are consistent rows (one-sided,
+        // the standard gradient there carries about half of ρg and the surface layers never rest;
+        // doc/benchmarks.md "Standard operators at rest").
+        corrected_rows.resize(n);
+        for_each_particle(detail::TruncatedBySurface<dim>{particles(), neighbors(x), ptr(corrected_rows)});
+        report.correction_fallbacks = compute_corrections<dim>(x, V, nl, box, W, G, L, settings.correction_checks,
+                                                               &surface, &corrected_rows);
+      }
+      const bool hybrid = !settings.consistent && settings.free_surface;
       assemble_operators<dim>(x, V, nl, box, W, settings.consistent ? OperatorKind::consistent : OperatorKind::standard,
-                              G, L, A, &operator_rows);
+                              G, L, A, &operator_rows, hybrid ? &corrected_rows : nullptr);
       values.resize(nl.n_entries());
       detail::VelocityMatrix<dim> m;
       m.p       = particles();
@@ -345,7 +356,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
         detail::ContinuityVelocity<dim> cont;
         cont.p        = particles();
         cont.nb       = neighbors(x);
-        cont.wetted_walls = settings.wetted_walls && settings.consistent; // standard: no help (doc/benchmarks.md)
+        cont.wetted_walls = settings.wetted_walls;
         cont.max_separation = settings.gravity_norm() * dt;
         cont.approach = ptr(u_approach);
         cont.out      = ptr(u_cont);
@@ -387,7 +398,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
         r.g[d] = settings.gravity[d];
       r.relaxation_time = std::max(dt, settings.density_relaxation_time);
       r.neumann         = neumann;
-      r.rest_density_markers = settings.wetted_walls && settings.consistent;
+      r.rest_density_markers = settings.wetted_walls;
       r.pinned          = pinned;
       r.rhs             = ptr(rhs);
       if (settings.offsets_surface())
@@ -475,11 +486,12 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     {
       for (int d = 0; d < dim; ++d)
         spmv(nl.offsets, nl.indices, A.gradient[d], pressure, grad_p[d]);
-      if (settings.consistent && settings.limit_pressure_peaks)
+      if (settings.limit_pressure_peaks && (settings.consistent || settings.free_surface))
       {
         detail::PeakGradientLimiter<dim> lim;
         lim.p  = particles();
         lim.nb = neighbors(x);
+        lim.rows = settings.consistent ? nullptr : ptr(corrected_rows);
         for (int d = 0; d < dim; ++d)
           lim.grad_p[d] = ptr(grad_p[d]);
         for_each_particle(lim);
@@ -490,6 +502,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
         pg.p  = particles();
         pg.nb = neighbors(x);
         pg.A  = operators();
+        pg.corrected = settings.free_surface ? ptr(corrected_rows) : nullptr;
         for (int d = 0; d < dim; ++d)
           pg.grad_p[d] = ptr(grad_p[d]);
         for_each_particle(pg);
@@ -509,6 +522,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
           pg.p.pressure = ptr(density_q);
           pg.nb = neighbors(x);
           pg.A  = operators();
+          pg.corrected = settings.free_surface ? ptr(corrected_rows) : nullptr;
           for (int d = 0; d < dim; ++d)
             pg.grad_p[d] = ptr(grad_q[d]);
           for_each_particle(pg);
@@ -736,6 +750,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     dvec<double>       pressure, surface_pressure, rhs_alpha, density_q, grad_q[dim], rho, support, V, rhs, tmp, comp, div_u, values, grad_p[dim];
     dvec<int>          kind, surface, body;
     dvec<int>          operator_rows; ///< NeedsOperatorRow of each particle, this step
+    dvec<int>          corrected_rows; ///< standard operators: TruncatedBySurface, this step
     std::vector<std::array<double, 3>> forces, torques; ///< per solid, from the last step
     std::vector<std::array<double, 3>> torque_centres;  ///< per solid: `to` of its last MarkerMotion
     dvec<MarkerMotion>                 device_motions;  ///< move_solids' motions on the device

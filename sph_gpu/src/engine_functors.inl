@@ -64,6 +64,24 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
     TWINFLOW_HD void operator()(int i) const { out[i] = p.fluid(i) || p.support[i] > 0 ? 1 : 0; }
   };
 
+  /// Standard operators with a free surface: out[i] = 1 for a fluid particle whose support
+  /// holds a free-surface particle (itself included). Its standard rows are one-sided, so they
+  /// are assembled as consistent rows (Eq. 22–26).
+  template <int dim>
+  struct TruncatedBySurface
+  {
+    ParticleView<dim> p; ///< kind, surface
+    NeighborView<dim> nb;
+    int              *out = nullptr;
+    TWINFLOW_HD void  operator()(int i) const
+    {
+      int truncated = 0;
+      if (p.fluid(i))
+        for_each_neighbor(nb, i, [&](const int j, int, const Vec<dim> &) { truncated |= p.fluid(j) && p.surface[j]; });
+      out[i] = truncated;
+    }
+  };
+
   /// Velocity system of Eq. 56 (fluid rows) and Eq. 62–63 (BCE rows), matrix values.
   template <int dim>
   struct VelocityMatrix
@@ -279,8 +297,11 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
     NeighborView<dim> nb;
     OperatorView<dim> A;
     double           *grad_p[dim] = {};
+    const int        *corrected = nullptr; ///< consistent rows (TruncatedBySurface): left as they are
     TWINFLOW_HD void operator()(int i) const
     {
+      if (corrected && corrected[i])
+        return;
       const int kii = p.fluid(i) ? diagonal_entry(nb, i) : -1;
       if (kii >= 0)
         for (int d = 0; d < dim; ++d)
@@ -473,9 +494,10 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
     ParticleView<dim> p; ///< kind, surface, pressure
     NeighborView<dim> nb;
     double           *grad_p[dim] = {};
+    const int        *rows = nullptr; ///< only the rows with rows[i] ≠ 0 (the standard operators' consistent rows; null: all)
     TWINFLOW_HD void operator()(int i) const
     {
-      if (!p.fluid(i) || p.surface[i] || p.pressure[i] == 0)
+      if (!p.fluid(i) || p.surface[i] || p.pressure[i] == 0 || (rows && !rows[i]))
         return;
       // a peak (p_i > 0 above every neighbour) or a trough (p_i < 0 below every neighbour)
       const double sign = p.pressure[i] > 0 ? 1.0 : -1.0;

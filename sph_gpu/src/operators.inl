@@ -368,6 +368,33 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       }
     };
 
+    /// Standard operators: scale_i = dim / tr G_i^{-1} = dim / (−Σ_j V_j r_ij·∇_i W_ij), the
+    /// isotropic part of Eq. 24, scales row i of A^G and A^L. On a full, regular support G_i is a
+    /// multiple of I, and both the kernel gradient of a linear field and Eq. 29 of a quadratic
+    /// one (whose sum is the same Σ_j V_j r_ij·∇W_ij) fall short by tr G_i^{-1} / dim: 0.9 % for
+    /// the cubic spline at h = 1.2 Δx. Scaled, both are exact there, and the pair-form pressure
+    /// force of the hydrostatic field is ρg, as the consistent rows at the surface have it.
+    /// (Scaling the pair (i, j) by the mean of scale_i and scale_j instead, which keeps the pair
+    /// force antisymmetric, broke that balance where the scale varies, at the surface and the
+    /// walls: still water at 0.056 m/s within 2 s; doc/benchmarks.md.)
+    template <int dim>
+    struct LatticeScaleF
+    {
+      NeighborView<dim> nb;
+      const double     *V     = nullptr;
+      double           *scale = nullptr;
+
+      TWINFLOW_HD void operator()(const int i) const
+      {
+        double trace = 0;
+        for_each_neighbor(nb, i, [&](const int j, int, const geometry::Vec<dim> &r) {
+          if (j != i)
+            trace -= V[j] * geometry::dot(r, Pair<dim>(nb.W, r).gradW);
+        });
+        scale[i] = trace > 0 ? dim / trace : 1.0;
+      }
+    };
+
     /// Row i of A^G and A^L.
     template <int dim>
     struct AssembleF
@@ -379,6 +406,9 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       double             *grad[dim] = {};
       double             *lap       = nullptr;
       const int          *rows      = nullptr; ///< rows[i] = 0: a zero row (null: all rows)
+      /// standard kind: rows[i] ≠ 0 are consistent rows (null: none); see assemble_operators()
+      const int          *corrected = nullptr;
+      const double       *scale     = nullptr; ///< standard kind: LatticeScaleF of each particle
 
       TWINFLOW_HD void operator()(const int i) const
       {
@@ -392,6 +422,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
           }
           return;
         }
+        const bool   consistent = this->consistent || (corrected && corrected[i]);
         Tensor2<dim> Gi = identity<dim>(), Li = identity<dim>();
         if (consistent)
         {
@@ -426,9 +457,12 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
               for (int q = 0; q < dim; ++q)
                 gd += Gi.a[d][q] * p.gradW[q];
             }
-            v[d]       = V[j] * gd;
-            grad[d][k] = v[d];
+            v[d] = V[j] * gd;
           }
+          if (!consistent && scale) // standard: the row's lattice scale (LatticeScaleF)
+            v *= scale[i];
+          for (int d = 0; d < dim; ++d)
+            grad[d][k] = v[d];
           diag_g -= v;
           // Laplacian, Eq. 29 / 23: c = 2 V_j (e·∇W) or 2 V_j (L : e ⊗ ∇W)
           double c = 0;
@@ -441,6 +475,8 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
           else
             c = geometry::dot(p.e, p.gradW);
           c *= 2.0 * V[j];
+          if (!consistent && scale)
+            c *= scale[i];
           lap[k] = -c / p.dist;
           diag_l += c / p.dist;
           if (consistent)
@@ -509,7 +545,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
   void assemble_operators(const dvec<Vec<dim>> &x, const dvec<double> &V, const NeighborList &nl,
                           const DomainBox<dim> &box, const CubicSpline<dim> &W, const OperatorKind kind,
                           const dvec<Tensor2<dim>> &G, const dvec<Tensor2<dim>> &L, OperatorMatrices<dim> &A,
-                          const dvec<int> *rows)
+                          const dvec<int> *rows, const dvec<int> *corrected)
   {
     const int         n         = static_cast<int>(x.size());
     const std::size_t n_entries = nl.indices.size();
@@ -522,13 +558,21 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     f.nb         = neighbor_view(x, nl, box, W);
     f.V          = ptr(V);
     f.consistent = kind == OperatorKind::consistent;
-    f.G          = f.consistent ? ptr(G) : nullptr;
-    f.L          = f.consistent ? ptr(L) : nullptr;
+    f.corrected  = !f.consistent && corrected ? ptr(*corrected) : nullptr;
+    thrust::counting_iterator<int> first(0);
+    dvec<double>                   scale;
+    if (!f.consistent)
+    {
+      scale.resize(n);
+      thrust::for_each(exec, first, first + n, operators_detail::LatticeScaleF<dim>{f.nb, f.V, ptr(scale)});
+      f.scale = ptr(scale);
+    }
+    f.G          = f.consistent || f.corrected ? ptr(G) : nullptr;
+    f.L          = f.consistent || f.corrected ? ptr(L) : nullptr;
     for (int d = 0; d < dim; ++d)
       f.grad[d] = ptr(A.gradient[d]);
     f.lap  = ptr(A.laplacian);
     f.rows = rows ? ptr(*rows) : nullptr;
-    thrust::counting_iterator<int> first(0);
     thrust::for_each(exec, first, first + n, f);
   }
 
@@ -542,7 +586,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
   template void assemble_operators<dim>(const dvec<Vec<dim>> &, const dvec<double> &, const NeighborList &,  \
                                         const DomainBox<dim> &, const CubicSpline<dim> &, OperatorKind,      \
                                         const dvec<Tensor2<dim>> &, const dvec<Tensor2<dim>> &,              \
-                                        OperatorMatrices<dim> &, const dvec<int> *);
+                                        OperatorMatrices<dim> &, const dvec<int> *, const dvec<int> *);
   TWINFLOW_SPH_OPERATORS_INSTANTIATE(2)
   TWINFLOW_SPH_OPERATORS_INSTANTIATE(3)
 #undef TWINFLOW_SPH_OPERATORS_INSTANTIATE

@@ -26,7 +26,7 @@ namespace twinflow::sph
   /// α-blended pressure corrects the velocity, which keeps the kick as kinetic energy: the Martin &
   /// Moyce energy rose 19 % at α = 1), or `position` (the α-blended pressure moves the particles,
   /// the velocity is projected with α = 0; one more, looser solve per step for q = p_α − p). `automatic`:
-  /// position for the consistent operators where the flow has a free surface, velocity otherwise.
+  /// position where the flow has a free surface, velocity otherwise.
   /// A free surface is where the velocity form feeds energy in (impacts, splash: doc/benchmarks.md,
   /// "SPH energy budget"); a confined flow has none, and there the α term acting on the velocity is
   /// what holds the particles out of a small body: the coarse periodic cylinder (a 16-marker
@@ -67,11 +67,11 @@ namespace twinflow::sph
     double             min_pair_distance = 0.5;
     /// consistent operators: ∇p_i = 0 at a strict local pressure maximum (PeakGradientLimiter)
     bool               limit_pressure_peaks = true;
-    /// consistent operators: wall markers hold the liquid that wets them, Eq. 64 with ρ0 and the
+    /// wall markers hold the liquid that wets them, Eq. 64 with ρ0 and the
     /// motion away from a wetted marker mirrored, up to |g| Δt, in the continuity source
     /// (ContinuityVelocity)
     bool               wetted_walls = true;
-    /// consistent operators with a free surface: p = 0 half a spacing beyond the free-surface
+    /// with a free surface: p = 0 half a spacing beyond the free-surface
     /// particles, which carry p_s = Δx/2 ∂p/∂n (SurfacePressure), not at their centres
     bool               surface_offset = true;
     std::array<double, 3> acceleration{{0, 0, 0}}; ///< gravity + body force
@@ -97,14 +97,14 @@ namespace twinflow::sph
     }
 
     /// Whether the free-surface particles carry the pressure of half a spacing (surface_offset).
-    bool offsets_surface() const { return surface_offset && consistent && free_surface; }
+    bool offsets_surface() const { return surface_offset && free_surface; }
 
-    /// Whether the α term moves the particles (DensityCorrection::position, or `automatic` for the
-    /// consistent operators with a free surface); false when α = 0 (there is no α term).
+    /// Whether the α term moves the particles (DensityCorrection::position, or `automatic` with a
+    /// free surface); false when α = 0 (there is no α term).
     bool corrects_positions() const
     {
       return alpha > 0 && (density_correction == DensityCorrection::position ||
-                           (density_correction == DensityCorrection::automatic && free_surface && consistent));
+                           (density_correction == DensityCorrection::automatic && free_surface));
     }
   };
 

@@ -53,11 +53,14 @@ namespace twinflow::sph
                             const dvec<int> *surface = nullptr, const dvec<int> *rows = nullptr);
 
     /// Assembles A^G and A^L, standard (Eq. 19–20) or consistent (Eq. 22–23, using G, L). With
-    /// @p rows, the rows i with rows[i] = 0 are zero.
+    /// @p rows, the rows i with rows[i] = 0 are zero. The standard gradient rows are scaled to
+    /// tr G_i^{-1} = dim (the isotropic part of Eq. 24: exact for a linear field on a full regular
+    /// support). Standard kind with @p corrected: the rows with corrected[i] ≠ 0 are consistent
+    /// rows (G, L computed there), e.g. the rows a free surface truncates.
     template <int dim>
     void assemble_operators(const dvec<Vec<dim>> &x, const dvec<double> &V, const NeighborList &nl,
                             const DomainBox<dim> &box, const CubicSpline<dim> &W, OperatorKind kind,
                             const dvec<Tensor2<dim>> &G, const dvec<Tensor2<dim>> &L, OperatorMatrices<dim> &A,
-                            const dvec<int> *rows = nullptr);
+                            const dvec<int> *rows = nullptr, const dvec<int> *corrected = nullptr);
   } // namespace TWINFLOW_SPH_BACKEND
 } // namespace twinflow::sph
