@@ -30,7 +30,7 @@ namespace twinflow::sph
     prm.declare_entry("Smoothing length ratio", to_string(d.h_over_dx), Patterns::Double(0.5, 3), "h / spacing (kernel support 2h).");
     prm.declare_entry("Operators", d.consistent ? "consistent" : "standard", Patterns::Selection("consistent|standard"),
                       "Discrete gradient/Laplacian: consistent (Eq. 22-26) or standard (Eq. 19-20; the kernel "
-                      "gradient scaled to the trace of Eq. 24, exact for a linear field on a regular lattice, and the "
+                      "operators multiplied by the lattice factor dim / tr G^{-1} of Eq. 24, exact on a regular lattice, and the "
                       "rows a free surface truncates assembled consistent, without which still water never rests).");
     prm.declare_entry("Alpha", to_string(d.alpha), Patterns::Double(0, 1),
                       "Weight of the density-invariance source in the pressure equation (Eq. 55/57).");

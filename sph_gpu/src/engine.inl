@@ -303,7 +303,8 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       }
       const bool hybrid = !settings.consistent && settings.free_surface;
       assemble_operators<dim>(x, V, nl, box, W, settings.consistent ? OperatorKind::consistent : OperatorKind::standard,
-                              G, L, A, &operator_rows, hybrid ? &corrected_rows : nullptr);
+                              G, L, A, &operator_rows, hybrid ? &corrected_rows : nullptr,
+                              lattice_scale<dim>(W, settings.spacing));
       values.resize(nl.n_entries());
       detail::VelocityMatrix<dim> m;
       m.p       = particles();

@@ -368,33 +368,6 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       }
     };
 
-    /// Standard operators: scale_i = dim / tr G_i^{-1} = dim / (−Σ_j V_j r_ij·∇_i W_ij), the
-    /// isotropic part of Eq. 24, scales row i of A^G and A^L. On a full, regular support G_i is a
-    /// multiple of I, and both the kernel gradient of a linear field and Eq. 29 of a quadratic
-    /// one (whose sum is the same Σ_j V_j r_ij·∇W_ij) fall short by tr G_i^{-1} / dim: 0.9 % for
-    /// the cubic spline at h = 1.2 Δx. Scaled, both are exact there, and the pair-form pressure
-    /// force of the hydrostatic field is ρg, as the consistent rows at the surface have it.
-    /// (Scaling the pair (i, j) by the mean of scale_i and scale_j instead, which keeps the pair
-    /// force antisymmetric, broke that balance where the scale varies, at the surface and the
-    /// walls: still water at 0.056 m/s within 2 s; doc/benchmarks.md.)
-    template <int dim>
-    struct LatticeScaleF
-    {
-      NeighborView<dim> nb;
-      const double     *V     = nullptr;
-      double           *scale = nullptr;
-
-      TWINFLOW_HD void operator()(const int i) const
-      {
-        double trace = 0;
-        for_each_neighbor(nb, i, [&](const int j, int, const geometry::Vec<dim> &r) {
-          if (j != i)
-            trace -= V[j] * geometry::dot(r, Pair<dim>(nb.W, r).gradW);
-        });
-        scale[i] = trace > 0 ? dim / trace : 1.0;
-      }
-    };
-
     /// Row i of A^G and A^L.
     template <int dim>
     struct AssembleF
@@ -408,7 +381,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       const int          *rows      = nullptr; ///< rows[i] = 0: a zero row (null: all rows)
       /// standard kind: rows[i] ≠ 0 are consistent rows (null: none); see assemble_operators()
       const int          *corrected = nullptr;
-      const double       *scale     = nullptr; ///< standard kind: LatticeScaleF of each particle
+      double              scale     = 1.0;     ///< standard rows: lattice_scale()
 
       TWINFLOW_HD void operator()(const int i) const
       {
@@ -459,8 +432,8 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
             }
             v[d] = V[j] * gd;
           }
-          if (!consistent && scale) // standard: the row's lattice scale (LatticeScaleF)
-            v *= scale[i];
+          if (!consistent) // standard: the kernel's lattice scale (lattice_scale)
+            v *= scale;
           for (int d = 0; d < dim; ++d)
             grad[d][k] = v[d];
           diag_g -= v;
@@ -475,8 +448,8 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
           else
             c = geometry::dot(p.e, p.gradW);
           c *= 2.0 * V[j];
-          if (!consistent && scale)
-            c *= scale[i];
+          if (!consistent)
+            c *= scale;
           lap[k] = -c / p.dist;
           diag_l += c / p.dist;
           if (consistent)
@@ -545,7 +518,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
   void assemble_operators(const dvec<Vec<dim>> &x, const dvec<double> &V, const NeighborList &nl,
                           const DomainBox<dim> &box, const CubicSpline<dim> &W, const OperatorKind kind,
                           const dvec<Tensor2<dim>> &G, const dvec<Tensor2<dim>> &L, OperatorMatrices<dim> &A,
-                          const dvec<int> *rows, const dvec<int> *corrected)
+                          const dvec<int> *rows, const dvec<int> *corrected, const double standard_scale)
   {
     const int         n         = static_cast<int>(x.size());
     const std::size_t n_entries = nl.indices.size();
@@ -559,14 +532,8 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     f.V          = ptr(V);
     f.consistent = kind == OperatorKind::consistent;
     f.corrected  = !f.consistent && corrected ? ptr(*corrected) : nullptr;
+    f.scale      = standard_scale;
     thrust::counting_iterator<int> first(0);
-    dvec<double>                   scale;
-    if (!f.consistent)
-    {
-      scale.resize(n);
-      thrust::for_each(exec, first, first + n, operators_detail::LatticeScaleF<dim>{f.nb, f.V, ptr(scale)});
-      f.scale = ptr(scale);
-    }
     f.G          = f.consistent || f.corrected ? ptr(G) : nullptr;
     f.L          = f.consistent || f.corrected ? ptr(L) : nullptr;
     for (int d = 0; d < dim; ++d)
@@ -574,6 +541,37 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     f.lap  = ptr(A.laplacian);
     f.rows = rows ? ptr(*rows) : nullptr;
     thrust::for_each(exec, first, first + n, f);
+  }
+
+  template <int dim>
+  double lattice_scale(const CubicSpline<dim> &W, const double spacing)
+  {
+    // the regular lattice of the particle setup: V = 1 / Σ_j W_0j, trace = −V Σ_j r_0j·∇W_0j
+    if (!(spacing > 0) || !(W.support() / spacing < 64))
+      return 1.0;
+    const int reach = static_cast<int>(W.support() / spacing) + 1;
+    double    sum_w = 0, trace = 0;
+    int       k[3]  = {0, 0, 0};
+    const int n_cells = dim == 2 ? (2 * reach + 1) * (2 * reach + 1) : (2 * reach + 1) * (2 * reach + 1) * (2 * reach + 1);
+    for (int c = 0; c < n_cells; ++c)
+    {
+      int rest = c;
+      for (int d = 0; d < dim; ++d)
+      {
+        k[d] = rest % (2 * reach + 1) - reach;
+        rest /= 2 * reach + 1;
+      }
+      geometry::Vec<dim> r;
+      for (int d = 0; d < dim; ++d)
+        r[d] = k[d] * spacing;
+      const double dist = geometry::norm(r);
+      if (dist >= W.support())
+        continue;
+      sum_w += W.value(dist);
+      if (dist > 0)
+        trace -= geometry::dot(r, operators_detail::Pair<dim>(W, r).gradW);
+    }
+    return sum_w > 0 && trace > 0 ? dim * sum_w / trace : 1.0;
   }
 
 #define TWINFLOW_SPH_OPERATORS_INSTANTIATE(dim)                                                              \
@@ -586,7 +584,9 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
   template void assemble_operators<dim>(const dvec<Vec<dim>> &, const dvec<double> &, const NeighborList &,  \
                                         const DomainBox<dim> &, const CubicSpline<dim> &, OperatorKind,      \
                                         const dvec<Tensor2<dim>> &, const dvec<Tensor2<dim>> &,              \
-                                        OperatorMatrices<dim> &, const dvec<int> *, const dvec<int> *);
+                                        OperatorMatrices<dim> &, const dvec<int> *, const dvec<int> *,       \
+                                        double);                                                             \
+  template double lattice_scale<dim>(const CubicSpline<dim> &, double);
   TWINFLOW_SPH_OPERATORS_INSTANTIATE(2)
   TWINFLOW_SPH_OPERATORS_INSTANTIATE(3)
 #undef TWINFLOW_SPH_OPERATORS_INSTANTIATE

@@ -118,8 +118,8 @@ TEST(StillWater, HydrostaticStandard)
 {
   // Standard operators (Eq. 19–20, the pair-antisymmetric pressure force) in the paper's form of the
   // surface (density criterion alone, no shifting, no pair separation). Measured after 1 s: bulk
-  // error max 3.2e-3 %, speed max 9.6e-5 m/s. Before the rows the surface truncates were assembled
-  // consistent and the kernel gradient scaled to tr G^{-1} = dim (2026-12-07, doc/benchmarks.md
+  // error max 2.2e-3 %, speed max 4.1e-5 m/s. Before the rows the surface truncates were assembled
+  // consistent and the operators multiplied by the lattice factor (2026-12-07, doc/benchmarks.md
   // "Standard operators at rest"): 18.9 % and 0.12 m/s, the top layers jittering in a
   // compressed state, and a snapshot chaotic in the solver's round-off.
   const HydrostaticCheck o = still_water(false, 0.5, PressureWall::bce, true);
@@ -151,8 +151,9 @@ TEST(StillWaterAtRest, DISABLED_PositionFormTenSeconds)
 }
 
 // The standard operators with the scene defaults (the position form of the density-error
-// correction, wetted walls, the surface offset). Measured 2026-12-07: 2 s 3.2e-4 m/s, bulk error
-// 0.018 %; 10 s 1.0e-3 m/s (5.0e-4 sqrt(gH)), 0.30 % (the velocity form: 1.7e-3 m/s, 0.085 %).
+// correction, wetted walls, the surface offset). Measured 2026-12-07: 2 s 3.3e-4 m/s, bulk error
+// 0.009 %; 10 s 6.3e-4 m/s (3.2e-4 sqrt(gH)), 0.23 % (a per-row scale: 1.0e-3 m/s, 0.30 %, and
+// with the velocity form 1.7e-3 m/s, 0.085 %).
 // Before: 0.79 m/s and 69 % at 2 s.
 TEST(StillWaterAtRest, StandardTwoSeconds) { expect_at_rest(stay_at_rest(false, 2)); }
 TEST(StillWaterAtRest, DISABLED_StandardTenSeconds) { expect_at_rest(stay_at_rest(false, 10)); }
