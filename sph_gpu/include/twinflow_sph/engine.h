@@ -65,7 +65,8 @@ namespace twinflow::sph
     /// fluid pairs closer than this fraction of Δx, one of them a free-surface particle, are
     /// pushed apart to it after the step's free-surface detection (PairSeparation; 0: off)
     double             min_pair_distance = 0.5;
-    /// consistent operators: ∇p_i = 0 at a strict local pressure maximum (PeakGradientLimiter)
+    /// ∇p_i = 0 at a strict local pressure maximum (PeakGradientLimiter): consistent operators,
+    /// and the standard operators' consistent rows at a free surface
     bool               limit_pressure_peaks = true;
     /// wall markers hold the liquid that wets them, Eq. 64 with ρ0 and the
     /// motion away from a wetted marker mirrored, up to |g| Δt, in the continuity source
