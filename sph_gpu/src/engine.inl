@@ -73,6 +73,8 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       for (int d = 0; d < dim; ++d)
         vol *= s.spacing;
       m0 = s.rho0 * vol;
+      if (!s.consistent)
+        standard_scale = lattice_scale<dim>(W, s.spacing);
     }
 
     void set_particles(const HostParticles<dim> &p) override
@@ -301,10 +303,8 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
         report.correction_fallbacks = compute_corrections<dim>(x, V, nl, box, W, G, L, settings.correction_checks,
                                                                &surface, &corrected_rows);
       }
-      const bool hybrid = !settings.consistent && settings.free_surface;
       assemble_operators<dim>(x, V, nl, box, W, settings.consistent ? OperatorKind::consistent : OperatorKind::standard,
-                              G, L, A, &operator_rows, hybrid ? &corrected_rows : nullptr,
-                              lattice_scale<dim>(W, settings.spacing));
+                              G, L, A, &operator_rows, standard_surface_rows(), standard_scale);
       values.resize(nl.n_entries());
       detail::VelocityMatrix<dim> m;
       m.p       = particles();
@@ -492,7 +492,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
         detail::PeakGradientLimiter<dim> lim;
         lim.p  = particles();
         lim.nb = neighbors(x);
-        lim.rows = settings.consistent ? nullptr : ptr(corrected_rows);
+        lim.rows = settings.consistent ? nullptr : ptr(corrected_rows); // standard: its consistent rows
         for (int d = 0; d < dim; ++d)
           lim.grad_p[d] = ptr(grad_p[d]);
         for_each_particle(lim);
@@ -503,7 +503,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
         pg.p  = particles();
         pg.nb = neighbors(x);
         pg.A  = operators();
-        pg.corrected = settings.free_surface ? ptr(corrected_rows) : nullptr;
+        pg.corrected = standard_surface_rows() ? ptr(corrected_rows) : nullptr;
         for (int d = 0; d < dim; ++d)
           pg.grad_p[d] = ptr(grad_p[d]);
         for_each_particle(pg);
@@ -523,7 +523,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
           pg.p.pressure = ptr(density_q);
           pg.nb = neighbors(x);
           pg.A  = operators();
-          pg.corrected = settings.free_surface ? ptr(corrected_rows) : nullptr;
+          pg.corrected = standard_surface_rows() ? ptr(corrected_rows) : nullptr;
           for (int d = 0; d < dim; ++d)
             pg.grad_p[d] = ptr(grad_q[d]);
           for_each_particle(pg);
@@ -752,6 +752,14 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     dvec<int>          kind, surface, body;
     dvec<int>          operator_rows; ///< NeedsOperatorRow of each particle, this step
     dvec<int>          corrected_rows; ///< standard operators: TruncatedBySurface, this step
+    double             standard_scale = 1.0; ///< standard operators: lattice_scale of the setup lattice
+
+    /// The standard operators' consistent rows at a free surface (null: consistent operators, or
+    /// no free surface).
+    const dvec<int> *standard_surface_rows() const
+    {
+      return !settings.consistent && settings.free_surface ? &corrected_rows : nullptr;
+    }
     std::vector<std::array<double, 3>> forces, torques; ///< per solid, from the last step
     std::vector<std::array<double, 3>> torque_centres;  ///< per solid: `to` of its last MarkerMotion
     dvec<MarkerMotion>                 device_motions;  ///< move_solids' motions on the device

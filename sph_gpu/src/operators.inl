@@ -533,13 +533,13 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     f.consistent = kind == OperatorKind::consistent;
     f.corrected  = !f.consistent && corrected ? ptr(*corrected) : nullptr;
     f.scale      = standard_scale;
-    thrust::counting_iterator<int> first(0);
     f.G          = f.consistent || f.corrected ? ptr(G) : nullptr;
     f.L          = f.consistent || f.corrected ? ptr(L) : nullptr;
     for (int d = 0; d < dim; ++d)
       f.grad[d] = ptr(A.gradient[d]);
     f.lap  = ptr(A.laplacian);
     f.rows = rows ? ptr(*rows) : nullptr;
+    thrust::counting_iterator<int> first(0);
     thrust::for_each(exec, first, first + n, f);
   }
 
