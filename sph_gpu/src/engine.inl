@@ -305,6 +305,10 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       }
       assemble_operators<dim>(x, V, nl, box, W, settings.consistent ? OperatorKind::consistent : OperatorKind::standard,
                               G, L, A, &operator_rows, standard_surface_rows(), standard_scale);
+      if (settings.consistent && settings.conservative_gradient) // experimental (operators.h)
+        make_gradient_conservative<dim>(x, V, nl, box, W, G, kind, settings.free_surface ? &surface : nullptr, A,
+                                        conservative_work, settings.offsets_surface() ? 0.5 * settings.spacing : 0.0,
+                                        settings.conservative_regularisation, 1e-8, 2000);
       values.resize(nl.n_entries());
       detail::VelocityMatrix<dim> m;
       m.p       = particles();
@@ -751,6 +755,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     dvec<double>       pressure, surface_pressure, rhs_alpha, density_q, grad_q[dim], rho, support, V, rhs, tmp, comp, div_u, values, grad_p[dim];
     dvec<int>          kind, surface, body;
     dvec<int>          operator_rows; ///< NeedsOperatorRow of each particle, this step
+    ConservativeGradientWork<dim> conservative_work;
     dvec<int>          corrected_rows; ///< standard operators: TruncatedBySurface, this step
     double             standard_scale = 1.0; ///< standard operators: lattice_scale of the setup lattice
 

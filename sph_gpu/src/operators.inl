@@ -591,3 +591,5 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
   TWINFLOW_SPH_OPERATORS_INSTANTIATE(3)
 #undef TWINFLOW_SPH_OPERATORS_INSTANTIATE
 } // namespace twinflow::sph::TWINFLOW_SPH_BACKEND
+
+#include "conservative_gradient.inl"

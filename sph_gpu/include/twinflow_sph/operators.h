@@ -64,6 +64,47 @@ namespace twinflow::sph
                             const dvec<int> *rows = nullptr, const dvec<int> *corrected = nullptr,
                             double standard_scale = 1.0);
 
+    /// What make_gradient_conservative() did: CG iterations, the norm of the constraint
+    /// defect of the antisymmetrised consistent pair, and the relative residual left.
+    struct ConservativeGradientReport
+    {
+      int    iterations = 0;
+      double initial    = 0;
+      double residual   = 0;
+      bool   converged  = true;
+      double max_ratio  = 0; ///< largest Σ_j |c_ij| / Σ_j |a⁰_ij| of a row
+    };
+
+    /// Work arrays of make_gradient_conservative(), kept between steps (y: the multipliers, a
+    /// warm start while the particle count is unchanged).
+    template <int dim>
+    struct ConservativeGradientWork
+    {
+      dvec<int>    rows;
+      dvec<double> y, b, r, z, p, q, blocks, ratio;
+      dvec<Vec<dim>> shift;
+    };
+
+    /// Rewrites the fluid rows of the consistent A^G as a summation-by-parts pair: coefficients
+    /// a_ij = V_i A^G_ij antisymmetric over fluid pairs, the diagonal in the sum form
+    /// (A^G p)_i = Σ_j a_ij (p_i + p_j) / V_i, whose divergence partner Σ_j a_ij·(u_j − u_i) / V_i
+    /// is its negative adjoint: the pressure does no work on the fluid but at the walls and
+    /// through the free-surface rows' pressure. Exact for linear fields on every fluid row (on a
+    /// free-surface row, @p surface, for those that vanish @p surface_depth above it, the
+    /// free-surface offset) and zero for constants off the free surface. The smallest correction
+    /// of the antisymmetric part of Eq. 22 that does so (conservative_gradient.inl); its
+    /// multipliers are solved by CG to @p tolerance; @p regularisation > 0 relaxes the
+    /// constraints (least squares). Experimental: not wired to a scene option (doc/benchmarks.md,
+    /// "A summation-by-parts consistent gradient").
+    template <int dim>
+    ConservativeGradientReport make_gradient_conservative(const dvec<Vec<dim>> &x, const dvec<double> &V,
+                                                          const NeighborList &nl, const DomainBox<dim> &box,
+                                                          const CubicSpline<dim> &W, const dvec<Tensor2<dim>> &G,
+                                                          const dvec<int> &kind, const dvec<int> *surface,
+                                                          OperatorMatrices<dim> &A, ConservativeGradientWork<dim> &work,
+                                                          double surface_depth, double regularisation, double tolerance,
+                                                          int max_iterations);
+
     /// dim / tr G^{-1} on the regular lattice of spacing @p spacing (the particle setup's), with
     /// tr G^{-1} = −Σ_j V_j r_ij·∇_i W_ij (Eq. 24): there G = (tr G^{-1}/dim)^{-1} I, and both the
     /// kernel gradient of a linear field and Eq. 29 of a quadratic one (whose sum is the same

@@ -1,0 +1,505 @@
+// The conservative consistent gradient (single source for the CPU and CUDA backends; included
+// by operators.inl). See operators.h, make_gradient_conservative().
+//
+// A^G of the fluid rows is rewritten from pair coefficients a_ij (V_i A^G_ij = a_ij, diagonal
+// −Σ_j a_ij) that are antisymmetric over fluid pairs, a_ji = −a_ij, so that the pressure force
+// −A^G p and the divergence A^G u satisfy ⟨u, A^G p⟩_V + ⟨p, A^G u⟩_V = Σ_i 2 p_i u_i·Σ_j a_ij
+// + (marker pairs): with Σ_j a_ij = 0 on every row whose pressure is not zero the pressure
+// does no work on the fluid but at the walls (summation by parts). The a_ij are the smallest
+// correction c_ij (weighted least squares) of the antisymmetric part of the consistent pair
+// a⁰_ij = ½ V_i V_j (G_i + G_j) ∇_i W_ij (Eq. 22) that satisfies, on each fluid row i,
+//   R1_i: Σ_j a_ij = 0                       (rows off the free surface: a constant has no gradient)
+//   R2_i: Σ_j a_ij ⊗ (x_j − x_i) = V_i I     (every row: exact for a linear field, like Eq. 22)
+// A pair with a BCE marker appears in the fluid row only, so its coefficient is free. With the
+// Lagrange multipliers y_i = (λ_i, M_i), c_ij = w_ij [λ_i − λ_j + (M_i + M_j)(x_j − x_i)/h]
+// (marker: w_im [λ_i + M_i (x_m − x_i)/h]) and the multipliers solve K y = −R(a⁰), K = J W Jᵀ
+// symmetric positive semi-definite, by conjugate gradients with a block-Jacobi preconditioner.
+#include <thrust/inner_product.h>
+#include <thrust/functional.h>
+
+#include <thrust/transform.h>
+
+namespace twinflow::sph::TWINFLOW_SPH_BACKEND
+{
+  namespace conservative_detail
+  {
+    using operators_detail::Pair;
+
+    /// Unknowns (and constraints) per particle: λ (dim), M (dim × dim).
+    template <int dim>
+    constexpr int kUnknowns = dim + dim * dim;
+
+    /// What a particle's row must satisfy.
+    enum RowConstraints : int { none = 0, linear = 1, linear_and_constant = 2 };
+
+    template <int dim>
+    struct Geometry
+    {
+      NeighborView<dim>   nb;
+      const double       *V       = nullptr;
+      const Tensor2<dim> *G       = nullptr;
+      const int          *kind    = nullptr;
+      const int          *rows    = nullptr; ///< RowConstraints of each particle
+      /// −2 d n_i for a free-surface row (n_i outward, d the centre's depth below the free
+      /// surface): its linear fields vanish at x_i + d n_i; zero elsewhere
+      const geometry::Vec<dim> *shift = nullptr;
+      double              inv_h   = 1.0;
+
+      TWINFLOW_HD bool fluid(const int j) const { return kind[j] == ParticleKind::fluid; }
+
+      /// Weight w_ij of a pair's correction in the least-squares norm: uniform (the kernel
+      /// weight W_ij / W(0) put the corrections on the close pairs, 4-5 × their coefficients,
+      /// and the Martin & Moyce a/10 collapse diverged within 9 steps; uniform: 96 steps).
+      TWINFLOW_HD double weight(const Pair<dim> &) const { return 1.0; }
+      /// μ: the multipliers minimise Σ|c|²/w + Σ|R|²/μ instead (0: the constraints hold exactly)
+      double regularisation = 0;
+      TWINFLOW_HD double mu(int) const { return regularisation; }
+
+      /// a⁰_ij: the antisymmetric part of the consistent pair (fluid j), the consistent pair
+      /// itself for a marker j.
+      TWINFLOW_HD geometry::Vec<dim> start(const int i, const int j, const Pair<dim> &p) const
+      {
+        geometry::Vec<dim> a;
+        const bool         both = fluid(j);
+        for (int d = 0; d < dim; ++d)
+        {
+          double s = 0;
+          for (int q = 0; q < dim; ++q)
+            s += (both ? 0.5 * (G[i].a[d][q] + G[j].a[d][q]) : G[i].a[d][q]) * p.gradW[q];
+          a[d] = V[i] * V[j] * s;
+        }
+        return a;
+      }
+
+      /// The correction c_ij of the multipliers y (kUnknowns per particle; zero where inactive):
+      /// Jᵀ y of the pair, λ_i − λ_j + M_i (r_ji + s_i)/h + M_j (r_ji − s_j)/h (s: shift).
+      TWINFLOW_HD geometry::Vec<dim> correction(const int i, const int j, const Pair<dim> &p, const double *y) const
+      {
+        constexpr int      nc = kUnknowns<dim>;
+        const double       w  = weight(p);
+        const double      *yi = y + nc * i;
+        const bool         fj = fluid(j) && rows[j] != none;
+        const double      *yj = y + nc * j;
+        geometry::Vec<dim> c;
+        for (int d = 0; d < dim; ++d)
+        {
+          double s = yi[d] - (fj ? yj[d] : 0.0);
+          for (int q = 0; q < dim; ++q) // r_ji = −r_ij
+          {
+            s += yi[dim + dim * d + q] * (shift[i][q] - p.r[q]) * inv_h;
+            if (fj)
+              s -= yj[dim + dim * d + q] * (p.r[q] + shift[j][q]) * inv_h;
+          }
+          c[d] = w * s;
+        }
+        return c;
+      }
+
+      /// out[nc] += Pᵀ c: the constraints R1 (c) and R2 (c ⊗ (r_ji + s_i) / h) of row i.
+      TWINFLOW_HD void add_constraints(const int i, const geometry::Vec<dim> &c, const Pair<dim> &p,
+                                       double *out) const
+      {
+        for (int d = 0; d < dim; ++d)
+        {
+          out[d] += c[d];
+          for (int q = 0; q < dim; ++q)
+            out[dim + dim * d + q] += c[d] * (shift[i][q] - p.r[q]) * inv_h;
+        }
+      }
+
+      /// Zeroes the components row i does not constrain.
+      TWINFLOW_HD void mask(const int i, double *out) const
+      {
+        constexpr int nc = kUnknowns<dim>;
+        if (!fluid(i) || rows[i] == none)
+          for (int a = 0; a < nc; ++a)
+            out[a] = 0;
+        else if (rows[i] == linear)
+          for (int d = 0; d < dim; ++d)
+            out[d] = 0;
+      }
+    };
+
+    /// b_i = −R_i(a⁰) (masked).
+    template <int dim>
+    struct ResidualF
+    {
+      Geometry<dim> g;
+      double       *b = nullptr;
+
+      TWINFLOW_HD void operator()(const int i) const
+      {
+        constexpr int nc = kUnknowns<dim>;
+        double        R[nc];
+        for (int a = 0; a < nc; ++a)
+          R[a] = 0;
+        if (g.fluid(i) && g.rows[i] != none)
+        {
+          for_each_neighbor(g.nb, i, [&](const int j, int, const geometry::Vec<dim> &r) {
+            if (j == i)
+              return;
+            const Pair<dim> p(g.nb.W, r);
+            if (p.dist <= 0)
+              return;
+            g.add_constraints(i, g.start(i, j, p), p, R);
+          });
+          for (int d = 0; d < dim; ++d)
+            R[dim + dim * d + d] -= g.V[i] * g.inv_h;
+        }
+        g.mask(i, R);
+        for (int a = 0; a < nc; ++a)
+          b[nc * i + a] = -R[a];
+      }
+    };
+
+    /// out = K y.
+    template <int dim>
+    struct ApplyF
+    {
+      Geometry<dim> g;
+      const double *y   = nullptr;
+      double       *out = nullptr;
+
+      TWINFLOW_HD void operator()(const int i) const
+      {
+        constexpr int nc = kUnknowns<dim>;
+        double        s[nc];
+        for (int a = 0; a < nc; ++a)
+          s[a] = 0;
+        if (g.fluid(i) && g.rows[i] != none)
+          for_each_neighbor(g.nb, i, [&](const int j, int, const geometry::Vec<dim> &r) {
+            if (j == i)
+              return;
+            const Pair<dim> p(g.nb.W, r);
+            if (p.dist <= 0)
+              return;
+            g.add_constraints(i, g.correction(i, j, p, y), p, s);
+          });
+        for (int a = 0; a < nc; ++a)
+          s[a] += g.mu(i) * y[nc * i + a];
+        g.mask(i, s);
+        for (int a = 0; a < nc; ++a)
+          out[nc * i + a] = s[a];
+      }
+    };
+
+    /// The diagonal block of K at i (inactive components: identity).
+    template <int dim>
+    struct DiagonalBlockF
+    {
+      Geometry<dim> g;
+      double       *blocks = nullptr; ///< nc × nc per particle, row-major
+
+      TWINFLOW_HD void operator()(const int i) const
+      {
+        constexpr int nc = kUnknowns<dim>;
+        double       *D  = blocks + nc * nc * i;
+        for (int a = 0; a < nc * nc; ++a)
+          D[a] = 0;
+        bool active[nc];
+        {
+          double probe[nc];
+          for (int a = 0; a < nc; ++a)
+            probe[a] = 1;
+          g.mask(i, probe);
+          for (int a = 0; a < nc; ++a)
+            active[a] = probe[a] != 0;
+        }
+        if (g.fluid(i) && g.rows[i] != none)
+          for_each_neighbor(g.nb, i, [&](const int j, int, const geometry::Vec<dim> &r) {
+            if (j == i)
+              return;
+            const Pair<dim> p(g.nb.W, r);
+            if (p.dist <= 0)
+              return;
+            const double w = g.weight(p);
+            // P (dim × nc): c = w P y_i; P = [I | −e_d ⊗ r/h]
+            double P[dim][nc];
+            for (int d = 0; d < dim; ++d)
+              for (int a = 0; a < nc; ++a)
+                P[d][a] = 0;
+            for (int d = 0; d < dim; ++d)
+            {
+              P[d][d] = 1;
+              for (int q = 0; q < dim; ++q)
+                P[d][dim + dim * d + q] = (g.shift[i][q] - p.r[q]) * g.inv_h;
+            }
+            for (int a = 0; a < nc; ++a)
+              for (int b = 0; b < nc; ++b)
+              {
+                double s = 0;
+                for (int d = 0; d < dim; ++d)
+                  s += P[d][a] * P[d][b];
+                D[nc * a + b] += w * s;
+              }
+          });
+        for (int a = 0; a < nc; ++a)
+          D[nc * a + a] += g.mu(i);
+        for (int a = 0; a < nc; ++a)
+          for (int b = 0; b < nc; ++b)
+            if (!active[a] || !active[b])
+              D[nc * a + b] = a == b ? 1.0 : 0.0;
+      }
+    };
+
+    /// z_i = D_i⁻¹ r_i (D_i singular: z_i = r_i / max diagonal).
+    template <int dim>
+    struct PreconditionF
+    {
+      const double *blocks = nullptr, *r = nullptr;
+      double       *z      = nullptr;
+
+      TWINFLOW_HD void operator()(const int i) const
+      {
+        constexpr int nc = kUnknowns<dim>;
+        double        K[nc][nc], b[nc], y[nc];
+        double        dmax = 0;
+        for (int a = 0; a < nc; ++a)
+        {
+          for (int c = 0; c < nc; ++c)
+            K[a][c] = blocks[nc * nc * i + nc * a + c];
+          b[a] = r[nc * i + a];
+          dmax = K[a][a] > dmax ? K[a][a] : dmax;
+        }
+        if (operators_detail::solve<nc>(K, b, y))
+          for (int a = 0; a < nc; ++a)
+            z[nc * i + a] = y[a];
+        else
+          for (int a = 0; a < nc; ++a)
+            z[nc * i + a] = dmax > 0 ? r[nc * i + a] / dmax : 0.0;
+      }
+    };
+
+    /// Rewrites the fluid rows of A^G from a = a⁰ + c(y).
+    template <int dim>
+    struct WriteF
+    {
+      Geometry<dim> g;
+      const double *y = nullptr;
+      double       *grad[dim] = {};
+      double       *ratio     = nullptr; ///< Σ|c_ij| / Σ|a⁰_ij| of each row (null: not wanted)
+
+      TWINFLOW_HD void operator()(const int i) const
+      {
+        if (ratio)
+          ratio[i] = 0;
+        if (!g.fluid(i))
+          return;
+        double             sum_c = 0, sum_a = 0;
+        geometry::Vec<dim> sum = geometry::Vec<dim>::zero();
+        int                kd  = -1;
+        const double       inv_V = g.V[i] > 0 ? 1.0 / g.V[i] : 0.0;
+        for_each_neighbor(g.nb, i, [&](const int j, const int k, const geometry::Vec<dim> &r) {
+          if (j == i)
+          {
+            kd = k;
+            return;
+          }
+          const Pair<dim> p(g.nb.W, r);
+          if (p.dist <= 0)
+          {
+            for (int d = 0; d < dim; ++d)
+              grad[d][k] = 0;
+            return;
+          }
+          const geometry::Vec<dim> a0 = g.start(i, j, p), c = g.correction(i, j, p, y);
+          const geometry::Vec<dim> a  = a0 + c;
+          sum_c += geometry::norm(c);
+          sum_a += geometry::norm(a0);
+          for (int d = 0; d < dim; ++d)
+            grad[d][k] = a[d] * inv_V;
+          sum += a;
+        });
+        if (kd >= 0)
+          for (int d = 0; d < dim; ++d)
+            grad[d][kd] = sum[d] * inv_V; // the sum form Σ_j a_ij (p_i + p_j) / V_i
+        if (ratio)
+          ratio[i] = sum_a > 0 ? sum_c / sum_a : 0.0;
+      }
+    };
+
+    /// RowConstraints of each particle: fluid rows with a correction G (not the identity of
+    /// a deficient support) are exact for linear fields; off the free surface also for constants.
+    template <int dim>
+    struct RowsF
+    {
+      const int          *kind = nullptr, *surface = nullptr;
+      const Tensor2<dim> *G    = nullptr;
+      int                *rows = nullptr;
+
+      TWINFLOW_HD void operator()(const int i) const
+      {
+        if (kind[i] != ParticleKind::fluid)
+        {
+          rows[i] = none;
+          return;
+        }
+        bool identity = true;
+        for (int m = 0; m < dim; ++m)
+          for (int n = 0; n < dim; ++n)
+            identity = identity && G[i].a[m][n] == (m == n ? 1.0 : 0.0);
+        rows[i] = identity ? none : surface && surface[i] ? linear : linear_and_constant;
+      }
+    };
+
+    /// shift[i] = −2 d n_i on the free-surface rows (n_i: away from the centroid of the
+    /// neighbours, as SurfacePressure), zero elsewhere.
+    template <int dim>
+    struct ShiftF
+    {
+      NeighborView<dim>   nb;
+      const double       *V = nullptr;
+      const int          *kind = nullptr, *surface = nullptr;
+      double              depth = 0;
+      geometry::Vec<dim> *shift = nullptr;
+
+      TWINFLOW_HD void operator()(const int i) const
+      {
+        shift[i] = geometry::Vec<dim>::zero();
+        if (kind[i] != ParticleKind::fluid || !surface || !surface[i] || !(depth > 0))
+          return;
+        geometry::Vec<dim> inward = geometry::Vec<dim>::zero();
+        for_each_neighbor(nb, i, [&](const int j, int, const geometry::Vec<dim> &r) {
+          if (j != i)
+            inward -= V[j] * nb.w(r) * r;
+        });
+        const double len = geometry::norm(inward);
+        if (len > 0)
+          shift[i] = inward * (2 * depth / len);
+      }
+    };
+
+    struct AxpyF
+    {
+      double       *out;
+      const double *x;
+      double        a;
+      const double *y;
+      TWINFLOW_HD void operator()(const int k) const { out[k] = x[k] + a * y[k]; }
+    };
+  } // namespace conservative_detail
+
+  template <int dim>
+  ConservativeGradientReport make_gradient_conservative(const dvec<Vec<dim>> &x, const dvec<double> &V,
+                                                        const NeighborList &nl, const DomainBox<dim> &box,
+                                                        const CubicSpline<dim> &W, const dvec<Tensor2<dim>> &G,
+                                                        const dvec<int> &kind, const dvec<int> *surface,
+                                                        OperatorMatrices<dim> &A, ConservativeGradientWork<dim> &work,
+                                                        const double surface_depth, const double regularisation,
+                                                        const double tolerance, const int max_iterations)
+  {
+    using namespace conservative_detail;
+    constexpr int              nc = kUnknowns<dim>;
+    const int                  n  = static_cast<int>(x.size());
+    ConservativeGradientReport report;
+    if (n == 0)
+      return report;
+    work.rows.resize(n);
+    RowsF<dim> rf;
+    rf.kind    = ptr(kind);
+    rf.surface = surface ? ptr(*surface) : nullptr;
+    rf.G       = ptr(G);
+    rf.rows    = ptr(work.rows);
+    const thrust::counting_iterator<int> first(0);
+    thrust::for_each(exec, first, first + n, rf);
+
+    Geometry<dim> g;
+    g.nb     = neighbor_view(x, nl, box, W);
+    g.V      = ptr(V);
+    g.G      = ptr(G);
+    g.kind   = ptr(kind);
+    g.rows   = ptr(work.rows);
+    work.shift.resize(n);
+    {
+      ShiftF<dim> sf;
+      sf.nb      = g.nb;
+      sf.V       = ptr(V);
+      sf.kind    = ptr(kind);
+      sf.surface = surface ? ptr(*surface) : nullptr;
+      sf.depth   = surface_depth;
+      sf.shift   = ptr(work.shift);
+      thrust::for_each(exec, first, first + n, sf);
+    }
+    g.shift = ptr(work.shift);
+    g.inv_h  = 2.0 / W.support();
+    g.regularisation = regularisation;
+
+    const std::size_t m = static_cast<std::size_t>(nc) * n;
+    for (dvec<double> *v : {&work.b, &work.r, &work.z, &work.p, &work.q})
+      v->resize(m);
+    if (work.y.size() != m) // else: warm start from the caller's multipliers
+    {
+      work.y.resize(m);
+      thrust::fill(exec, work.y.begin(), work.y.end(), 0.0);
+    }
+    work.blocks.resize(m * nc);
+    thrust::for_each(exec, first, first + n, ResidualF<dim>{g, ptr(work.b)});
+    thrust::for_each(exec, first, first + n, DiagonalBlockF<dim>{g, ptr(work.blocks)});
+    auto apply = [&](const dvec<double> &in, dvec<double> &out) {
+      ApplyF<dim> f;
+      f.g   = g;
+      f.y   = ptr(in);
+      f.out = ptr(out);
+      thrust::for_each(exec, first, first + n, f);
+    };
+    auto dot = [&](const dvec<double> &a, const dvec<double> &b) {
+      return thrust::inner_product(exec, a.begin(), a.end(), b.begin(), 0.0);
+    };
+    auto axpy = [&](dvec<double> &out, const dvec<double> &a, const double s, const dvec<double> &b) {
+      thrust::for_each(exec, first, first + static_cast<int>(m), AxpyF{ptr(out), ptr(a), s, ptr(b)});
+    };
+    auto precondition = [&]() {
+      thrust::for_each(exec, first, first + n, PreconditionF<dim>{ptr(work.blocks), ptr(work.r), ptr(work.z)});
+    };
+    const double b_norm = std::sqrt(dot(work.b, work.b));
+    report.initial      = b_norm;
+    apply(work.y, work.q);
+    axpy(work.r, work.b, -1.0, work.q); // r = b − K y
+    double r_norm = std::sqrt(dot(work.r, work.r));
+    if (b_norm > 0 && r_norm > tolerance * b_norm)
+    {
+      precondition();
+      thrust::copy(exec, work.z.begin(), work.z.end(), work.p.begin());
+      double rz = dot(work.r, work.z);
+      for (int it = 0; it < max_iterations; ++it)
+      {
+        apply(work.p, work.q);
+        const double pq = dot(work.p, work.q);
+        if (!(pq > 0))
+          break;
+        const double alpha = rz / pq;
+        axpy(work.y, work.y, alpha, work.p);
+        axpy(work.r, work.r, -alpha, work.q);
+        report.iterations = it + 1;
+        r_norm            = std::sqrt(dot(work.r, work.r));
+        if (r_norm <= tolerance * b_norm)
+          break;
+        precondition();
+        const double rz_new = dot(work.r, work.z);
+        axpy(work.p, work.z, rz_new / rz, work.p);
+        rz = rz_new;
+      }
+    }
+    report.residual  = b_norm > 0 ? r_norm / b_norm : 0.0;
+    report.converged = report.residual <= tolerance;
+    WriteF<dim> wf;
+    wf.g = g;
+    wf.y = ptr(work.y);
+    work.ratio.resize(n);
+    wf.ratio = ptr(work.ratio);
+    for (int d = 0; d < dim; ++d)
+      wf.grad[d] = ptr(A.gradient[d]);
+    thrust::for_each(exec, first, first + n, wf);
+    report.max_ratio = thrust::reduce(exec, work.ratio.begin(), work.ratio.end(), 0.0, thrust::maximum<double>());
+    return report;
+  }
+
+#define TWINFLOW_SPH_CONSERVATIVE_INSTANTIATE(dim)                                                               \
+  template ConservativeGradientReport make_gradient_conservative<dim>(                                          \
+    const dvec<Vec<dim>> &, const dvec<double> &, const NeighborList &, const DomainBox<dim> &,                  \
+    const CubicSpline<dim> &, const dvec<Tensor2<dim>> &, const dvec<int> &, const dvec<int> *,                 \
+    OperatorMatrices<dim> &, ConservativeGradientWork<dim> &, double, double, double, int);
+  TWINFLOW_SPH_CONSERVATIVE_INSTANTIATE(2)
+  TWINFLOW_SPH_CONSERVATIVE_INSTANTIATE(3)
+#undef TWINFLOW_SPH_CONSERVATIVE_INSTANTIATE
+} // namespace twinflow::sph::TWINFLOW_SPH_BACKEND
