@@ -51,9 +51,11 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       /// weight W_ij / W(0) put the corrections on the close pairs, 4-5 × their coefficients,
       /// and the Martin & Moyce a/10 collapse diverged within 9 steps; uniform: 96 steps).
       TWINFLOW_HD double weight(const Pair<dim> &) const { return 1.0; }
-      /// μ: the multipliers minimise Σ|c|²/w + Σ|R|²/μ instead (0: the constraints hold exactly)
+      /// μ_i: on the rows with fewer neighbour entries than relax_below (corners, the toe, spray)
+      /// the multipliers minimise Σ|c|²/w + Σ|R|²/μ instead; elsewhere the constraints hold.
       double regularisation = 0;
-      TWINFLOW_HD double mu(int) const { return regularisation; }
+      double relax_below    = 0;
+      TWINFLOW_HD double mu(const int i) const { return nb.count(i) < relax_below ? regularisation : 0.0; }
 
       /// a⁰_ij: the antisymmetric part of the consistent pair (fluid j), the consistent pair
       /// itself for a marker j.
@@ -342,14 +344,17 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       }
     };
 
-    /// shift[i] = −2 d n_i on the free-surface rows (n_i: away from the centroid of the
-    /// neighbours, as SurfacePressure), zero elsewhere.
+    /// shift[i] = −2 d n_i on the free-surface rows, zero elsewhere. n_i: against the last
+    /// step's pressure gradient averaged over the interior fluid neighbours (the direction in
+    /// which SurfacePressure extrapolates p_s, so the closure and p_s describe the same plane);
+    /// where there is none (free fall, spray), away from the centroid of the neighbours.
     template <int dim>
     struct ShiftF
     {
       NeighborView<dim>   nb;
       const double       *V = nullptr;
       const int          *kind = nullptr, *surface = nullptr;
+      Components<dim>     grad_p; ///< ∇p of the last step (null: the centroid only)
       double              depth = 0;
       geometry::Vec<dim> *shift = nullptr;
 
@@ -358,13 +363,21 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
         shift[i] = geometry::Vec<dim>::zero();
         if (kind[i] != ParticleKind::fluid || !surface || !surface[i] || !(depth > 0))
           return;
-        geometry::Vec<dim> inward = geometry::Vec<dim>::zero();
+        geometry::Vec<dim> inward = geometry::Vec<dim>::zero(), gp = geometry::Vec<dim>::zero();
         for_each_neighbor(nb, i, [&](const int j, int, const geometry::Vec<dim> &r) {
-          if (j != i)
-            inward -= V[j] * nb.w(r) * r;
+          if (j == i)
+            return;
+          const double vw = V[j] * nb.w(r);
+          inward -= vw * r;
+          if (grad_p[0] && kind[j] == ParticleKind::fluid && !surface[j])
+            for (int d = 0; d < dim; ++d)
+              gp[d] += vw * grad_p[d][j];
         });
-        const double len = geometry::norm(inward);
-        if (len > 0)
+        // ∇p points into the liquid; use it where it has the sense of the centroid
+        const double gl = geometry::norm(gp), len = geometry::norm(inward);
+        if (gl > 0 && geometry::dot(gp, inward) > 0)
+          shift[i] = gp * (2 * depth / gl);
+        else if (len > 0)
           shift[i] = inward * (2 * depth / len);
       }
     };
@@ -385,7 +398,8 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
                                                         const CubicSpline<dim> &W, const dvec<Tensor2<dim>> &G,
                                                         const dvec<int> &kind, const dvec<int> *surface,
                                                         OperatorMatrices<dim> &A, ConservativeGradientWork<dim> &work,
-                                                        const double surface_depth, const double regularisation,
+                                                        const double surface_depth, const dvec<double> *grad_p,
+                                                        const double regularisation, const double relax_below,
                                                         const double tolerance, const int max_iterations)
   {
     using namespace conservative_detail;
@@ -417,12 +431,17 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       sf.kind    = ptr(kind);
       sf.surface = surface ? ptr(*surface) : nullptr;
       sf.depth   = surface_depth;
+      for (int d = 0; d < dim; ++d)
+        sf.grad_p.c[d] = grad_p && grad_p[d].size() == static_cast<std::size_t>(n) ? ptr(grad_p[d]) : nullptr;
+      if (!sf.grad_p.c[dim - 1])
+        sf.grad_p.c[0] = nullptr;
       sf.shift   = ptr(work.shift);
       thrust::for_each(exec, first, first + n, sf);
     }
     g.shift = ptr(work.shift);
     g.inv_h  = 2.0 / W.support();
     g.regularisation = regularisation;
+    g.relax_below    = relax_below;
 
     const std::size_t m = static_cast<std::size_t>(nc) * n;
     for (dvec<double> *v : {&work.b, &work.r, &work.z, &work.p, &work.q})
@@ -498,7 +517,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
   template ConservativeGradientReport make_gradient_conservative<dim>(                                          \
     const dvec<Vec<dim>> &, const dvec<double> &, const NeighborList &, const DomainBox<dim> &,                  \
     const CubicSpline<dim> &, const dvec<Tensor2<dim>> &, const dvec<int> &, const dvec<int> *,                 \
-    OperatorMatrices<dim> &, ConservativeGradientWork<dim> &, double, double, double, int);
+    OperatorMatrices<dim> &, ConservativeGradientWork<dim> &, double, const dvec<double> *, double, double, double, int);
   TWINFLOW_SPH_CONSERVATIVE_INSTANTIATE(2)
   TWINFLOW_SPH_CONSERVATIVE_INSTANTIATE(3)
 #undef TWINFLOW_SPH_CONSERVATIVE_INSTANTIATE

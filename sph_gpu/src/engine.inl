@@ -308,7 +308,8 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       if (settings.consistent && settings.conservative_gradient) // experimental (operators.h)
         make_gradient_conservative<dim>(x, V, nl, box, W, G, kind, settings.free_surface ? &surface : nullptr, A,
                                         conservative_work, settings.offsets_surface() ? 0.5 * settings.spacing : 0.0,
-                                        settings.conservative_regularisation, 1e-8, 2000);
+                                        grad_p, settings.conservative_regularisation,
+                                        settings.free_surface_min_neighbours, 1e-8, 2000);
       values.resize(nl.n_entries());
       detail::VelocityMatrix<dim> m;
       m.p       = particles();

@@ -670,7 +670,7 @@ namespace
     OperatorMatrices<dim>                    A = s.consistent;
     sph::cpu::ConservativeGradientWork<dim> work;
     const auto report = sph::cpu::make_gradient_conservative(s.x, s.V, s.nl, s.box, s.W, s.G, kind_d, &surface_d, A,
-                                                             work, depth, 0.0, 1e-12, 5000);
+                                                             work, depth, nullptr, 0.0, 0.0, 1e-12, 5000);
     EXPECT_TRUE(report.converged) << report.iterations << " iterations, residual " << report.residual;
     const auto rows = rows_of(s.nl);
     const auto V    = host(s.V);

@@ -61,7 +61,8 @@ namespace
   };
 
   Rest stay_at_rest(const bool consistent, const double seconds,
-                    const DensityCorrection form = EngineSettings().density_correction)
+                    const DensityCorrection form = EngineSettings().density_correction,
+                    const bool conservative_gradient = false)
   {
     const Scene scene = twinflow::testing::water_tank(0.5, 0.6, 0.4);
     const double dx = 0.02;
@@ -71,8 +72,9 @@ namespace
     prm.spacing            = dx;
     prm.consistent         = consistent; // the defaults: wetted walls
     prm.density_correction = form;
-    const EngineSettings s = make_engine_settings(scene, prm);
-    auto engine            = make_engine<2>("cpu", domain_box<2>(scene), s);
+    EngineSettings s = make_engine_settings(scene, prm);
+    s.conservative_gradient = conservative_gradient;
+    auto engine             = make_engine<2>("cpu", domain_box<2>(scene), s);
     engine->set_particles(P);
     Rest         rest;
     const int    steps = static_cast<int>(std::lround(seconds / 2e-3));
@@ -157,3 +159,13 @@ TEST(StillWaterAtRest, DISABLED_PositionFormTenSeconds)
 // Before: 0.79 m/s and 69 % at 2 s.
 TEST(StillWaterAtRest, StandardTwoSeconds) { expect_at_rest(stay_at_rest(false, 2)); }
 TEST(StillWaterAtRest, DISABLED_StandardTenSeconds) { expect_at_rest(stay_at_rest(false, 10)); }
+
+// The experimental summation-by-parts gradient (EngineSettings::conservative_gradient, doc/benchmarks.md
+// "A summation-by-parts consistent gradient"): its free-surface rows are exact only for the plane
+// Δx/2 above them along ∇p, so rest is what it must not lose. Measured 2026-12-07: 2 s 1.5e-4 m/s,
+// bulk error 0.028 % (with the closure plane along the neighbours' centroid instead of ∇p:
+// 9.1e-3 m/s at the contact line). Label full (about 75 s: a CG of ~180 iterations per step).
+TEST(StillWaterAtRest, DISABLED_ConservativeGradientTwoSeconds)
+{
+  expect_at_rest(stay_at_rest(true, 2, EngineSettings().density_correction, true));
+}

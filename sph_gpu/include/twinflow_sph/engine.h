@@ -76,11 +76,12 @@ namespace twinflow::sph
     /// particles, which carry p_s = Δx/2 ∂p/∂n (SurfacePressure), not at their centres
     bool               surface_offset = true;
     /// Experimental, not a scene option: the consistent A^G made a summation-by-parts pair
-    /// (make_gradient_conservative), with the constraints relaxed by μ = conservative_regularisation.
-    /// μ = 0 keeps still water at rest but the Martin & Moyce collapse diverges; μ = 1 gains no
-    /// energy there but still water does not rest (doc/benchmarks.md).
+    /// (make_gradient_conservative), its constraints relaxed by μ = conservative_regularisation
+    /// on the rows with fewer than free_surface_min_neighbours entries. Still water rests and the
+    /// α = 0 collapse gains no energy, but at α > 0 the run still gains 2-4 % and each step
+    /// costs a CG of 50-200 iterations (doc/benchmarks.md).
     bool               conservative_gradient       = false;
-    double             conservative_regularisation = 0;
+    double             conservative_regularisation = 10;
     std::array<double, 3> acceleration{{0, 0, 0}}; ///< gravity + body force
     std::array<double, 3> gravity{{0, 0, 0}};      ///< g of Eq. 61/64
     SolverSettings     velocity_solver, pressure_solver;

@@ -90,19 +90,22 @@ namespace twinflow::sph
     /// (A^G p)_i = Σ_j a_ij (p_i + p_j) / V_i, whose divergence partner Σ_j a_ij·(u_j − u_i) / V_i
     /// is its negative adjoint: the pressure does no work on the fluid but at the walls and
     /// through the free-surface rows' pressure. Exact for linear fields on every fluid row (on a
-    /// free-surface row, @p surface, for those that vanish @p surface_depth above it, the
+    /// free-surface row, @p surface, for those that vanish @p surface_depth above it along the
+    /// last step's ∇p, @p grad_p (dim arrays; null: the neighbours' centroid), which is the
     /// free-surface offset) and zero for constants off the free surface. The smallest correction
     /// of the antisymmetric part of Eq. 22 that does so (conservative_gradient.inl); its
-    /// multipliers are solved by CG to @p tolerance; @p regularisation > 0 relaxes the
-    /// constraints (least squares). Experimental: not wired to a scene option (doc/benchmarks.md,
-    /// "A summation-by-parts consistent gradient").
+    /// multipliers are solved by CG to @p tolerance. On rows with fewer neighbour entries than
+    /// @p relax_below the constraints are relaxed by @p regularisation (least squares).
+    /// Experimental: not a scene option (doc/benchmarks.md, "A summation-by-parts consistent
+    /// gradient").
     template <int dim>
     ConservativeGradientReport make_gradient_conservative(const dvec<Vec<dim>> &x, const dvec<double> &V,
                                                           const NeighborList &nl, const DomainBox<dim> &box,
                                                           const CubicSpline<dim> &W, const dvec<Tensor2<dim>> &G,
                                                           const dvec<int> &kind, const dvec<int> *surface,
                                                           OperatorMatrices<dim> &A, ConservativeGradientWork<dim> &work,
-                                                          double surface_depth, double regularisation, double tolerance,
+                                                          double surface_depth, const dvec<double> *grad_p,
+                                                          double regularisation, double relax_below, double tolerance,
                                                           int max_iterations);
 
     /// dim / tr G^{-1} on the regular lattice of spacing @p spacing (the particle setup's), with
