@@ -1,22 +1,27 @@
 // The conservative consistent gradient (single source for the CPU and CUDA backends; included
 // by operators.inl). See operators.h, make_gradient_conservative().
 //
-// A^G of the fluid rows is rewritten from pair coefficients a_ij (V_i A^G_ij = a_ij, diagonal
-// −Σ_j a_ij) that are antisymmetric over fluid pairs, a_ji = −a_ij, so that the pressure force
-// −A^G p and the divergence A^G u satisfy ⟨u, A^G p⟩_V + ⟨p, A^G u⟩_V = Σ_i 2 p_i u_i·Σ_j a_ij
-// + (marker pairs): with Σ_j a_ij = 0 on every row whose pressure is not zero the pressure
-// does no work on the fluid but at the walls (summation by parts). The a_ij are the smallest
-// correction c_ij (weighted least squares) of the antisymmetric part of the consistent pair
-// a⁰_ij = ½ V_i V_j (G_i + G_j) ∇_i W_ij (Eq. 22) that satisfies, on each fluid row i,
-//   R1_i: Σ_j a_ij = 0                       (rows off the free surface: a constant has no gradient)
-//   R2_i: Σ_j a_ij ⊗ (x_j − x_i) = V_i I     (every row: exact for a linear field, like Eq. 22)
+// A^G of the fluid rows is rewritten from pair coefficients a_ij = V_i A^G_ij that are
+// antisymmetric over fluid pairs, a_ji = −a_ij, with the diagonal of the sum form,
+// (A^G p)_i = Σ_j a_ij (p_i + p_j) / V_i. Its divergence partner, the difference form
+// Σ_j a_ij·(u_j − u_i) / V_i, is then its negative adjoint for any such a_ij:
+// ⟨u, A^G p⟩_V + ⟨p, D u⟩_V = Σ_{fluid i, marker m} a_im·(u_i p_m + p_i u_m), the walls only.
+// The a_ij are the smallest correction c_ij (least squares) of the antisymmetric part of the
+// consistent pair, a⁰_ij = ½ V_i V_j (G_i + G_j) ∇_i W_ij (Eq. 22), that satisfies on each fluid
+// row i
+//   R1_i: Σ_j a_ij = 0                         (off the free surface: a constant has no gradient;
+//                                               there sum and difference forms agree)
+//   R2_i: Σ_j a_ij ⊗ (x_j − x_i + s_i) = V_i I  (exact for linear fields)
+// with s_i = 0 but on a free-surface row, where s_i = −2 d n_i: there the sum form is exact for
+// the fields that vanish d above the particle, as the free-surface offset p_s = d ∂p/∂n has it
+// (the boundary closure: with p_s = 0 no antisymmetric pair of equal volumes is exact there).
 // A pair with a BCE marker appears in the fluid row only, so its coefficient is free. With the
-// Lagrange multipliers y_i = (λ_i, M_i), c_ij = w_ij [λ_i − λ_j + (M_i + M_j)(x_j − x_i)/h]
-// (marker: w_im [λ_i + M_i (x_m − x_i)/h]) and the multipliers solve K y = −R(a⁰), K = J W Jᵀ
-// symmetric positive semi-definite, by conjugate gradients with a block-Jacobi preconditioner.
-#include <thrust/inner_product.h>
+// Lagrange multipliers y_i = (λ_i, M_i), c_ij = w_ij [λ_i − λ_j + M_i (r_ji + s_i)/h + M_j (r_ji − s_j)/h]
+// (marker: w_im [λ_i + M_i (r_mi + s_i)/h]) and the multipliers solve (K + μ) y = −R(a⁰), K = J W Jᵀ
+// symmetric positive semi-definite, by conjugate gradients with a block-Jacobi preconditioner;
+// μ_i > 0 only on rows too thinly supported to carry the constraints (Geometry::mu).
 #include <thrust/functional.h>
-
+#include <thrust/inner_product.h>
 #include <thrust/transform.h>
 
 namespace twinflow::sph::TWINFLOW_SPH_BACKEND
