@@ -480,6 +480,36 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
     }
   };
 
+  /// The velocity of a shifted particle carried to its new position, u_i + (δx_i·∇)u_i (the ALE
+  /// correction of particle shifting), with the step's gradient rows in the difference form (the
+  /// off-diagonal entries). Experimental: EngineSettings::shifting_velocity_correction.
+  template <int dim>
+  struct ShiftVelocity
+  {
+    ParticleView<dim>  p; ///< kind, u
+    NeighborView<dim>  nb;
+    OperatorView<dim>  A;
+    const Vec<dim>    *before = nullptr, *after = nullptr;
+    Vec<dim>          *out    = nullptr;
+    TWINFLOW_HD void operator()(int i) const
+    {
+      out[i] = p.u[i];
+      if (!p.fluid(i))
+        return;
+      Vec<dim> dx = nb.box.difference(after[i], before[i]);
+      if (geometry::norm(dx) == 0)
+        return;
+      for_each_neighbor(nb, i, [&](const int j, const int k, const Vec<dim> &) {
+        if (j == i)
+          return;
+        double w = 0;
+        for (int d = 0; d < dim; ++d)
+          w += A.gradient[d][k] * dx[d];
+        out[i] += w * (p.u[j] - p.u[i]);
+      });
+    }
+  };
+
   /// ∇p_i = 0 at a strict local pressure maximum (p_i > 0 above every neighbour, markers
   /// included) of a fluid particle: there the one-sided consistent gradient ≈ −p_i G_i Σ V_j ∇W_ij
   /// points out of the water and pulls the particle into its neighbours (the spray kicks of

@@ -78,10 +78,16 @@ namespace twinflow::sph
     /// Experimental, not a scene option: the consistent A^G made a summation-by-parts pair
     /// (make_gradient_conservative), its constraints relaxed by μ = conservative_regularisation
     /// on the rows with fewer than free_surface_min_neighbours entries. Still water rests and the
-    /// α = 0 collapse gains no energy, but at α > 0 the run still gains 2-4 % and each step
-    /// costs a CG of 50-200 iterations (doc/benchmarks.md).
+    /// α = 0 collapse gains no energy; at α > 0 the run still gains 2-4 % unless
+    /// shifting_velocity_correction is on too; each step costs a CG of 50-200 iterations, and the
+    /// splash scene kicks at its start (doc/benchmarks.md).
     bool               conservative_gradient       = false;
     double             conservative_regularisation = 10;
+    /// Experimental, not a scene option: a shifted particle's velocity is carried to its new
+    /// position, u + (δx·∇)u (ShiftVelocity). With conservative_gradient the coarse dam breaks
+    /// gain ≤ 0.1 % (α = 0, 1, 0.5, CFL 1, 2); alone it gains 0.7-2.7 % there and the splash scene
+    /// runs away (doc/benchmarks.md).
+    bool               shifting_velocity_correction = false;
     std::array<double, 3> acceleration{{0, 0, 0}}; ///< gravity + body force
     std::array<double, 3> gravity{{0, 0, 0}};      ///< g of Eq. 61/64
     SolverSettings     velocity_solver, pressure_solver;
