@@ -20,7 +20,6 @@
 // (marker: w_im [λ_i + M_i (r_mi + s_i)/h]) and the multipliers solve (K + μ) y = −R(a⁰), K = J W Jᵀ
 // symmetric positive semi-definite, by conjugate gradients with a block-Jacobi preconditioner;
 // μ_i > 0 only on rows too thinly supported to carry the constraints (Geometry::mu).
-#include <thrust/functional.h>
 #include <thrust/inner_product.h>
 #include <thrust/transform.h>
 
@@ -284,15 +283,11 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       Geometry<dim> g;
       const double *y = nullptr;
       double       *grad[dim] = {};
-      double       *ratio     = nullptr; ///< Σ|c_ij| / Σ|a⁰_ij| of each row (null: not wanted)
 
       TWINFLOW_HD void operator()(const int i) const
       {
-        if (ratio)
-          ratio[i] = 0;
         if (!g.fluid(i))
           return;
-        double             sum_c = 0, sum_a = 0;
         geometry::Vec<dim> sum = geometry::Vec<dim>::zero();
         int                kd  = -1;
         const double       inv_V = g.V[i] > 0 ? 1.0 / g.V[i] : 0.0;
@@ -309,10 +304,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
               grad[d][k] = 0;
             return;
           }
-          const geometry::Vec<dim> a0 = g.start(i, j, p), c = g.correction(i, j, p, y);
-          const geometry::Vec<dim> a  = a0 + c;
-          sum_c += geometry::norm(c);
-          sum_a += geometry::norm(a0);
+          const geometry::Vec<dim> a = g.start(i, j, p) + g.correction(i, j, p, y);
           for (int d = 0; d < dim; ++d)
             grad[d][k] = a[d] * inv_V;
           sum += a;
@@ -320,8 +312,6 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
         if (kd >= 0)
           for (int d = 0; d < dim; ++d)
             grad[d][kd] = sum[d] * inv_V; // the sum form Σ_j a_ij (p_i + p_j) / V_i
-        if (ratio)
-          ratio[i] = sum_a > 0 ? sum_c / sum_a : 0.0;
       }
     };
 
@@ -509,12 +499,9 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     WriteF<dim> wf;
     wf.g = g;
     wf.y = ptr(work.y);
-    work.ratio.resize(n);
-    wf.ratio = ptr(work.ratio);
     for (int d = 0; d < dim; ++d)
       wf.grad[d] = ptr(A.gradient[d]);
     thrust::for_each(exec, first, first + n, wf);
-    report.max_ratio = thrust::reduce(exec, work.ratio.begin(), work.ratio.end(), 0.0, thrust::maximum<double>());
     return report;
   }
 

@@ -550,22 +550,15 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       if (settings.shifting > 0)
       {
         pe_moved = fluid_energy(x, true);
-        const bool ale = settings.shifting_velocity_correction; // experimental (engine.h)
-        if (ale)
-        {
-          x_preshift.resize(n);
-          thrust::copy(exec, x.begin(), x.end(), x_preshift.begin());
-        }
         shift_particles(dt);
-        if (ale)
+        if (settings.shifting_velocity_correction) // experimental (engine.h)
         {
           detail::ShiftVelocity<dim> sv;
-          sv.p      = particles();
-          sv.nb     = neighbors(x_start);
-          sv.A      = operators();
-          sv.before = ptr(x_preshift);
-          sv.after  = ptr(x);
-          u_cont.resize(n); // free until the next step's ContinuityVelocity
+          sv.p     = particles();
+          sv.nb    = neighbors(x_start);
+          sv.A     = operators();
+          sv.moved = ptr(shift_moved);
+          u_cont.resize(n); // scratch: free until the next step's ContinuityVelocity
           sv.out = ptr(u_cont);
           for_each_particle(sv);
           thrust::copy(exec, u_cont.begin(), u_cont.end(), u.begin());
@@ -609,6 +602,11 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       shift.max_shift   = 0.1 * settings.spacing;
       shift.u_min       = settings.shifting_velocity_floor;
       shift.x           = ptr(x);
+      if (settings.shifting_velocity_correction)
+      {
+        shift_moved.resize(n);
+        shift.moved = ptr(shift_moved);
+      }
       for_each_particle(shift);
     }
 
@@ -771,7 +769,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     ReducedSystem      reduced;   ///< the velocity's, then the pressure's system without its known rows
     dvec<Vec<dim>>     x_reduced; ///< positions of the pressure system's kept rows (the multigrid's cells)
     dvec<Tensor2<dim>> G, L;
-    dvec<Vec<dim>>     x_preshift; ///< positions before the shift (shifting_velocity_correction)
+    dvec<Vec<dim>>     shift_moved; ///< the shift of each particle (shifting_velocity_correction)
     dvec<Vec<dim>>     x, x_start, u, u_old, u_cont, u_approach, wall_velocity, wall_acceleration, normal;
     dvec<double>       pressure, surface_pressure, rhs_alpha, density_q, grad_q[dim], rho, support, V, rhs, tmp, comp, div_u, values, grad_p[dim];
     dvec<int>          kind, surface, body;

@@ -449,8 +449,11 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
     double            coefficient = 0, dt = 0, max_shift = 0;
     double            u_min = 0; ///< velocity floor U_f
     Vec<dim>         *x     = nullptr;
+    Vec<dim>         *moved = nullptr; ///< the displacement applied (null: not wanted)
     TWINFLOW_HD void operator()(int i) const
     {
+      if (moved)
+        moved[i] = Vec<dim>::zero();
       if (!p.fluid(i) || p.surface[i])
         return;
       if (u_min > 0 && any_neighbor(nb, i, [&](const int j) { return p.surface[j] && p.fluid(j); }))
@@ -477,6 +480,8 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
       for (int d = 0; d < dim; ++d)
         x[i][d] += scale * dr[d];
       x[i] = nb.box.wrap(x[i]);
+      if (moved)
+        moved[i] = scale * dr;
     }
   };
 
@@ -489,15 +494,13 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
     ParticleView<dim>  p; ///< kind, u
     NeighborView<dim>  nb;
     OperatorView<dim>  A;
-    const Vec<dim>    *before = nullptr, *after = nullptr;
-    Vec<dim>          *out    = nullptr;
+    const Vec<dim>    *moved = nullptr; ///< ShiftingDisplacement::moved
+    Vec<dim>          *out   = nullptr;
     TWINFLOW_HD void operator()(int i) const
     {
       out[i] = p.u[i];
-      if (!p.fluid(i))
-        return;
-      Vec<dim> dx = nb.box.difference(after[i], before[i]);
-      if (geometry::norm(dx) == 0)
+      const Vec<dim> dx = moved[i];
+      if (!p.fluid(i) || geometry::norm(dx) == 0)
         return;
       for_each_neighbor(nb, i, [&](const int j, const int k, const Vec<dim> &) {
         if (j == i)

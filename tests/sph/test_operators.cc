@@ -1,9 +1,7 @@
 // SPH neighbour search and operators of the CPU backend: neighbour lists against brute
 // force, kernel normalisation, and the standard (Eq. 19–20) vs consistent (Eq. 22–26)
 // gradient and Laplacian on regular and perturbed truncated lattices, interior vs edge.
-#include <twinflow_sph/engine.h>
-#include <twinflow_sph/neighbor_search.h>
-#include <twinflow_sph/operators.h>
+#include "operator_fixtures.h"
 
 #include <gtest/gtest.h>
 
@@ -17,48 +15,7 @@
 
 namespace
 {
-  namespace sph = twinflow::sph;
-  using sph::CubicSpline;
-  using sph::DomainBox;
-  using sph::OperatorKind;
-  using sph::Tensor2;
-  using sph::cpu::dvec;
-  using sph::cpu::NeighborList;
-  using sph::cpu::NeighborSearch;
-  using sph::cpu::OperatorMatrices;
-  template <int dim>
-  using Vec = twinflow::geometry::Vec<dim>;
-
-  template <typename T>
-  std::vector<T> host(const dvec<T> &v)
-  {
-    std::vector<T> h(v.size());
-    thrust::copy(v.begin(), v.end(), h.begin());
-    return h;
-  }
-
-  template <int dim>
-  DomainBox<dim> make_box(const double lo, const double hi, const std::vector<bool> &periodic)
-  {
-    DomainBox<dim> box;
-    for (int d = 0; d < dim; ++d)
-    {
-      box.lower[d]    = lo;
-      box.upper[d]    = hi;
-      box.periodic[d] = periodic[d];
-    }
-    return box;
-  }
-
-  /// Rows of a CSR neighbour list on the host.
-  std::vector<std::vector<int>> rows_of(const NeighborList &nl)
-  {
-    const auto                    off = host(nl.offsets), idx = host(nl.indices);
-    std::vector<std::vector<int>> rows(nl.n);
-    for (int i = 0; i < nl.n; ++i)
-      rows[i].assign(idx.begin() + off[i], idx.begin() + off[i + 1]);
-    return rows;
-  }
+  using namespace twinflow_test_sph_operators;
 
   /// y = A f for one CSR value array.
   std::vector<double> apply(const NeighborList &nl, const dvec<double> &values, const std::vector<double> &f)
@@ -165,62 +122,6 @@ namespace
     EXPECT_EQ(nl.n_entries(), 0u);
   }
 
-  // ------------------------------------------------------------------ lattices
-
-  /// Truncated lattice of N^dim particles of spacing dx = 1/N in [0,1]^dim (cell centres),
-  /// each coordinate perturbed by U(−a, a)·dx.
-  template <int dim>
-  std::vector<Vec<dim>> lattice(const int N, const double a, const unsigned seed)
-  {
-    const double                           dx = 1.0 / N;
-    std::mt19937                           rng(seed);
-    std::uniform_real_distribution<double> u(-a, a);
-    std::vector<Vec<dim>>                  x;
-    int                                    total = 1;
-    for (int d = 0; d < dim; ++d)
-      total *= N;
-    for (int c = 0; c < total; ++c)
-    {
-      Vec<dim> p;
-      int      code = c;
-      for (int d = 0; d < dim; ++d)
-      {
-        p[d] = (code % N + 0.5) * dx;
-        code /= N;
-      }
-      for (int d = 0; d < dim; ++d)
-        p[d] += u(rng) * dx;
-      x.push_back(p);
-    }
-    return x;
-  }
-
-  template <int dim>
-  struct Problem
-  {
-    DomainBox<dim>        box;
-    CubicSpline<dim>      W;
-    std::vector<Vec<dim>> xh;
-    dvec<Vec<dim>>        x;
-    NeighborList          nl;
-    dvec<double>          V;
-    dvec<Tensor2<dim>>    G, L;
-    int                   fallbacks = 0;
-    OperatorMatrices<dim> standard, consistent;
-
-    /// @p dx: the lattice spacing, which scales the standard rows as the engine does (lattice_scale)
-    Problem(const DomainBox<dim> &box_, const double h, std::vector<Vec<dim>> xh_, const double dx = 0)
-      : box(box_), W(h), xh(std::move(xh_)), x(xh.begin(), xh.end())
-    {
-      NeighborSearch<dim> search(box, W.support());
-      search.build(x, nl);
-      sph::cpu::compute_volumes(x, nl, box, W, V);
-      fallbacks = sph::cpu::compute_corrections(x, V, nl, box, W, G, L);
-      sph::cpu::assemble_operators(x, V, nl, box, W, OperatorKind::standard, G, L, standard, nullptr, nullptr,
-                                   sph::cpu::lattice_scale(W, dx));
-      sph::cpu::assemble_operators(x, V, nl, box, W, OperatorKind::consistent, G, L, consistent);
-    }
-  };
 
   // ------------------------------------------------------------------ kernel
 
@@ -644,121 +545,4 @@ namespace
 
   TEST(SphOperators, IsolatedParticle2D) { check_isolated<2>(); }
   TEST(SphOperators, IsolatedParticle3D) { check_isolated<3>(); }
-  // ------------------------------------------------------------------ summation by parts
-
-  /// make_gradient_conservative() on a perturbed 2D tank: three layers of wall markers below
-  /// and to the left, a free surface on the top row and the right column. Asserts what the
-  /// construction promises: pair coefficients antisymmetric over fluid pairs, so that the sum-form
-  /// gradient and the difference-form divergence are negative adjoints (the pressure does no
-  /// work), zero sums off the surface, and exactness for linear fields on every fluid row (on a
-  /// surface row: those vanishing half a spacing above it).
-  TEST(SphOperators, SummationByParts2D)
-  {
-    constexpr int   dim = 2;
-    const int       N   = 14;
-    const double    dx = 1.0 / N, h = 1.2 * dx, depth = 0.5 * dx;
-    Problem<dim>    s(make_box<dim>(-1, 2, {false, false}), h, lattice<dim>(N, 0.1, 7));
-    const auto      xh = s.xh;
-    std::vector<int> kind(xh.size()), surface(xh.size());
-    for (std::size_t i = 0; i < xh.size(); ++i)
-    {
-      const int cx = static_cast<int>(std::floor(xh[i][0] / dx)), cy = static_cast<int>(std::floor(xh[i][1] / dx));
-      kind[i]    = cx < 3 || cy < 3 ? sph::ParticleKind::wall : sph::ParticleKind::fluid;
-      surface[i] = kind[i] == sph::ParticleKind::fluid && (cx == N - 1 || cy == N - 1);
-    }
-    dvec<int> kind_d(kind.begin(), kind.end()), surface_d(surface.begin(), surface.end());
-    OperatorMatrices<dim>                    A = s.consistent;
-    sph::cpu::ConservativeGradientWork<dim> work;
-    const auto report = sph::cpu::make_gradient_conservative(s.x, s.V, s.nl, s.box, s.W, s.G, kind_d, &surface_d, A,
-                                                             work, depth, nullptr, 0.0, 0.0, 1e-12, 5000);
-    EXPECT_TRUE(report.converged) << report.iterations << " iterations, residual " << report.residual;
-    const auto rows = rows_of(s.nl);
-    const auto V    = host(s.V);
-    const auto shift = host(work.shift);
-    std::vector<std::vector<double>> g(dim);
-    for (int d = 0; d < dim; ++d)
-      g[d] = host(A.gradient[d]);
-    const auto off = host(s.nl.offsets);
-    auto       entry = [&](const int i, const int j) {
-      for (int k = off[i]; k < off[i + 1]; ++k)
-        if (rows[i][k - off[i]] == j)
-          return k;
-      return -1;
-    };
-    double asym = 0, sum_err = 0, lin_err = 0, scale = 0;
-    int    surface_rows = 0, interior_rows = 0;
-    for (std::size_t i = 0; i < xh.size(); ++i)
-    {
-      if (kind[i] != sph::ParticleKind::fluid)
-        continue;
-      double M[dim][dim] = {}, sum[dim] = {}, norm = 0;
-      for (const int j : rows[i])
-      {
-        if (j == static_cast<int>(i))
-          continue;
-        const int k = entry(i, j);
-        for (int d = 0; d < dim; ++d)
-        {
-          const double a = V[i] * g[d][k];
-          norm += std::abs(a);
-          sum[d] += a;
-          for (int q = 0; q < dim; ++q)
-            M[d][q] += a * (xh[j][q] - xh[i][q] + shift[i][q]);
-          if (kind[j] == sph::ParticleKind::fluid)
-            asym = std::max(asym, std::abs(a + V[j] * g[d][entry(j, i)]));
-        }
-      }
-      scale = std::max(scale, norm);
-      for (int d = 0; d < dim; ++d)
-      {
-        for (int q = 0; q < dim; ++q)
-          lin_err = std::max(lin_err, std::abs(M[d][q] / V[i] - (d == q ? 1.0 : 0.0)));
-        // the stored diagonal is the sum form's +Σ_j a_ij / V_i
-        EXPECT_NEAR(g[d][entry(i, i)] * V[i], sum[d], 1e-12 * norm);
-        if (!surface[i])
-          sum_err = std::max(sum_err, std::abs(sum[d]) / norm);
-      }
-      (surface[i] ? surface_rows : interior_rows) += 1;
-    }
-    EXPECT_GT(surface_rows, 2 * (N - 4));
-    EXPECT_GT(interior_rows, 50);
-    EXPECT_LT(asym, 1e-14 * scale);
-    EXPECT_LT(sum_err, 1e-8);
-    EXPECT_LT(lin_err, 1e-8);
-    // the surface rows sit half a spacing below the free surface: the shift is Δx, outward
-    for (std::size_t i = 0; i < xh.size(); ++i)
-      if (surface[i])
-        EXPECT_NEAR(std::hypot(shift[i][0], shift[i][1]), 2 * depth, 1e-12);
-
-    // ⟨u, G p⟩_V + ⟨p, D u⟩_V = 0 for fluid fields (zero on the markers)
-    std::mt19937                           rng(3);
-    std::uniform_real_distribution<double> r(-1, 1);
-    std::vector<double>                    p(xh.size(), 0.0);
-    std::vector<Vec<dim>>                  u(xh.size(), Vec<dim>::zero());
-    for (std::size_t i = 0; i < xh.size(); ++i)
-      if (kind[i] == sph::ParticleKind::fluid)
-      {
-        p[i] = r(rng);
-        for (int d = 0; d < dim; ++d)
-          u[i][d] = r(rng);
-      }
-    double work_sum = 0, work_scale = 0;
-    for (std::size_t i = 0; i < xh.size(); ++i)
-    {
-      if (kind[i] != sph::ParticleKind::fluid)
-        continue;
-      for (const int j : rows[i])
-      {
-        const int k = entry(i, j);
-        for (int d = 0; d < dim; ++d)
-        {
-          const double gp = j == static_cast<int>(i) ? g[d][k] * p[i] : g[d][k] * p[j];   // sum form
-          const double du = j == static_cast<int>(i) ? -g[d][k] * u[i][d] : g[d][k] * u[j][d]; // difference form
-          work_sum += V[i] * (u[i][d] * gp + p[i] * du);
-          work_scale += V[i] * std::abs(u[i][d] * gp);
-        }
-      }
-    }
-    EXPECT_LT(std::abs(work_sum), 1e-12 * work_scale);
-  }
 } // namespace

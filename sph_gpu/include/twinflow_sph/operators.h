@@ -72,7 +72,6 @@ namespace twinflow::sph
       double initial    = 0;
       double residual   = 0;
       bool   converged  = true;
-      double max_ratio  = 0; ///< largest Σ_j |c_ij| / Σ_j |a⁰_ij| of a row
     };
 
     /// Work arrays of make_gradient_conservative(), kept between steps (y: the multipliers, a
@@ -81,7 +80,7 @@ namespace twinflow::sph
     struct ConservativeGradientWork
     {
       dvec<int>    rows;
-      dvec<double> y, b, r, z, p, q, blocks, ratio;
+      dvec<double> y, b, r, z, p, q, blocks;
       dvec<Vec<dim>> shift;
     };
 
