@@ -15,10 +15,20 @@
 // with s_i = 0 but on a free-surface row, where s_i = −2 d n_i: there the sum form is exact for
 // the fields that vanish d above the particle, as the free-surface offset p_s = d ∂p/∂n has it
 // (the boundary closure: with p_s = 0 no antisymmetric pair of equal volumes is exact there).
-// A pair with a BCE marker appears in the fluid row only, so its coefficient is free. With the
+// A pair with a BCE marker appears in the fluid row only, so its coefficient is free.
+// The norm is not V near the free surface: on the rows with a free-surface particle in their
+// support the quadrature weight ω_i = V_i + δω_i is an unknown of the least squares too (R2
+// reads ... = ω_i I, and A^G = a / ω). With ω = V everywhere the closure leaves two
+// incompatibilities per surface column (1D: 2m − 1 constraints on 2m − 3 pairs in the top m
+// rows) that only a flux through the whole depth resolves: at rest the corrections were
+// 1.2-1.9 × the coefficients everywhere, growing with the column (doc/benchmarks.md, "The
+// surface norm"); with the two top rows' weights free, the top three rows close it (1D:
+// ω = (1 + β, 1 − β) V, β the kernel's second-neighbour coefficient), as the boundary weights
+// of a diagonal-norm SBP operator do. ω/V is kept in [kWeightFloor, 1/kWeightFloor]. With the
 // Lagrange multipliers y_i = (λ_i, M_i), c_ij = w_ij [λ_i − λ_j + M_i (r_ji + s_i)/h + M_j (r_ji − s_j)/h]
-// (marker: w_im [λ_i + M_i (r_mi + s_i)/h]) and the multipliers solve (K + μ) y = −R(a⁰), K = J W Jᵀ
-// symmetric positive semi-definite, by conjugate gradients with a block-Jacobi preconditioner;
+// (marker: w_im [λ_i + M_i (r_mi + s_i)/h]), δω_i = −(1/h) tr M_i, and the multipliers solve
+// (K + μ) y = −R(a⁰), K = J W Jᵀ + E Eᵀ symmetric positive semi-definite (E: the weights' columns),
+// by conjugate gradients with a block-Jacobi preconditioner;
 // μ_i > 0 only on rows too thinly supported to carry the constraints (Geometry::mu).
 #include <thrust/inner_product.h>
 #include <thrust/transform.h>
@@ -32,6 +42,10 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     /// Unknowns (and constraints) per particle: λ (dim), M (dim × dim).
     template <int dim>
     constexpr int kUnknowns = dim + dim * dim;
+
+    /// ω_i / V_i is kept in [kWeightFloor, 1 / kWeightFloor] (the Martin & Moyce collapse at
+    /// CFL 1 asked ω < 0 at its toe from step 25 and diverged at step 31; clamped it gains 0.06 %).
+    constexpr double kWeightFloor = 0.5;
 
     /// What a particle's row must satisfy.
     enum RowConstraints : int { none = 0, linear = 1, linear_and_constant = 2 };
@@ -48,6 +62,21 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       /// surface): its linear fields vanish at x_i + d n_i; zero elsewhere
       const geometry::Vec<dim> *shift = nullptr;
       double              inv_h   = 1.0;
+      /// 1 on the rows whose weight ω_i is free (a free-surface particle in the support)
+      const int          *free_weight = nullptr;
+
+      TWINFLOW_HD bool weight_free(const int i) const { return free_weight && free_weight[i] && rows[i] != none; }
+      /// δω_i = −Eᵢᵀ y = −(1/h) Σ_d M_i,dd of the multipliers y (unit weight in the least
+      /// squares: a weight 4 or 16 gave the same ω, which the local constraints determine)
+      TWINFLOW_HD double delta_weight(const int i, const double *y) const
+      {
+        if (!weight_free(i))
+          return 0.0;
+        double t = 0;
+        for (int d = 0; d < dim; ++d)
+          t += y[kUnknowns<dim> * i + dim + dim * d + d];
+        return -t * inv_h;
+      }
 
       TWINFLOW_HD bool fluid(const int j) const { return kind[j] == ParticleKind::fluid; }
 
@@ -183,6 +212,9 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
           });
         for (int a = 0; a < nc; ++a)
           s[a] += g.mu(i) * y[nc * i + a];
+        const double dw = g.delta_weight(i, y); // R2 − δω_i I / h
+        for (int d = 0; d < dim; ++d)
+          s[dim + dim * d + d] -= dw * g.inv_h;
         g.mask(i, s);
         for (int a = 0; a < nc; ++a)
           out[nc * i + a] = s[a];
@@ -241,6 +273,10 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
           });
         for (int a = 0; a < nc; ++a)
           D[nc * a + a] += g.mu(i);
+        if (g.weight_free(i)) // E Eᵀ
+          for (int d = 0; d < dim; ++d)
+            for (int e = 0; e < dim; ++e)
+              D[nc * (dim + dim * d + d) + dim + dim * e + e] += g.inv_h * g.inv_h;
         for (int a = 0; a < nc; ++a)
           for (int b = 0; b < nc; ++b)
             if (!active[a] || !active[b])
@@ -283,14 +319,20 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       Geometry<dim> g;
       const double *y = nullptr;
       double       *grad[dim] = {};
+      double       *weight    = nullptr; ///< ω_i (V_i off the fluid)
 
       TWINFLOW_HD void operator()(const int i) const
       {
+        weight[i] = g.V[i];
         if (!g.fluid(i))
           return;
         geometry::Vec<dim> sum = geometry::Vec<dim>::zero();
         int                kd  = -1;
-        const double       inv_V = g.V[i] > 0 ? 1.0 / g.V[i] : 0.0;
+        const double       lo = kWeightFloor * g.V[i], hi = g.V[i] / kWeightFloor;
+        double             omega = g.V[i] + g.delta_weight(i, y);
+        omega                    = omega < lo ? lo : omega > hi ? hi : omega;
+        const double       inv_V = omega > 0 ? 1.0 / omega : 0.0;
+        weight[i]                = omega;
         for_each_neighbor(g.nb, i, [&](const int j, const int k, const geometry::Vec<dim> &r) {
           if (j == i)
           {
@@ -377,6 +419,25 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       }
     };
 
+    /// free[i] = 1 on the fluid rows with a free-surface particle in their support.
+    template <int dim>
+    struct FreeWeightF
+    {
+      NeighborView<dim> nb;
+      const int        *kind = nullptr, *surface = nullptr;
+      int              *free = nullptr;
+
+      TWINFLOW_HD void operator()(const int i) const
+      {
+        int f = 0;
+        if (kind[i] == ParticleKind::fluid && surface)
+          for_each_neighbor(nb, i, [&](const int j, int, const geometry::Vec<dim> &) {
+            f = f || (kind[j] == ParticleKind::fluid && surface[j]);
+          });
+        free[i] = f;
+      }
+    };
+
     struct AxpyF
     {
       double       *out;
@@ -437,6 +498,16 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     g.inv_h  = 2.0 / W.support();
     g.regularisation = regularisation;
     g.relax_below    = relax_below;
+    work.free_weight.resize(n);
+    {
+      FreeWeightF<dim> fw;
+      fw.nb      = g.nb;
+      fw.kind    = ptr(kind);
+      fw.surface = surface ? ptr(*surface) : nullptr;
+      fw.free    = ptr(work.free_weight);
+      thrust::for_each(exec, first, first + n, fw);
+    }
+    g.free_weight = ptr(work.free_weight);
 
     const std::size_t m = static_cast<std::size_t>(nc) * n;
     for (dvec<double> *v : {&work.b, &work.r, &work.z, &work.p, &work.q})
@@ -499,6 +570,8 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     WriteF<dim> wf;
     wf.g = g;
     wf.y = ptr(work.y);
+    work.weight.resize(n);
+    wf.weight = ptr(work.weight);
     for (int d = 0; d < dim; ++d)
       wf.grad[d] = ptr(A.gradient[d]);
     thrust::for_each(exec, first, first + n, wf);

@@ -164,10 +164,10 @@ TEST(StillWaterAtRest, DISABLED_StandardTenSeconds) { expect_at_rest(stay_at_res
 // The experimental summation-by-parts gradient with shifting's velocity correction
 // (EngineSettings::conservative_gradient, shifting_velocity_correction; doc/benchmarks.md
 // "A summation-by-parts consistent gradient"): its free-surface rows are exact only for the plane
-// Δx/2 above them along ∇p, so rest is what it must not lose. Measured 2026-12-07: 2 s 1.5e-4 m/s,
-// bulk error 0.028 % (1.5312e-4 after the review commit: the shift is passed as applied instead of a difference of positions, round-off), the same with the gradient alone (with the closure plane along the neighbours'
-// centroid instead of ∇p: 9.1e-3 m/s at the contact line). Label full (about 75 s: a CG of ~180
-// iterations per step).
+// Δx/2 above them along ∇p, so rest is what it must not lose. Measured 2026-12-07 with ω = V
+// everywhere: 2 s 1.5e-4 m/s, bulk error 0.028 % (with the closure plane along the neighbours'
+// centroid instead of ∇p: 9.1e-3 m/s at the contact line). With the free-surface rows' weights
+// ω free (twenty-first session): 1.4e-4 m/s, bulk error 3.6e-6 rms, 29 s at 2 threads. Label full.
 TEST(StillWaterAtRest, DISABLED_ConservativeGradientTwoSeconds)
 {
   expect_at_rest(stay_at_rest(true, 2, EngineSettings().density_correction, true));

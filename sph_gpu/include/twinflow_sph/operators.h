@@ -79,16 +79,19 @@ namespace twinflow::sph
     template <int dim>
     struct ConservativeGradientWork
     {
-      dvec<int>    rows;
+      dvec<int>    rows, free_weight;
       dvec<double> y, b, r, z, p, q, blocks;
+      dvec<double> weight; ///< out: the quadrature weight ω_i of each row (V_i where not free)
       dvec<Vec<dim>> shift;
     };
 
     /// Rewrites the fluid rows of the consistent A^G as a summation-by-parts pair: coefficients
-    /// a_ij = V_i A^G_ij antisymmetric over fluid pairs, the diagonal in the sum form
-    /// (A^G p)_i = Σ_j a_ij (p_i + p_j) / V_i, whose divergence partner Σ_j a_ij·(u_j − u_i) / V_i
-    /// is its negative adjoint: the pressure does no work on the fluid but at the walls and
-    /// through the free-surface rows' pressure. Exact for linear fields on every fluid row (on a
+    /// a_ij = ω_i A^G_ij antisymmetric over fluid pairs, the diagonal in the sum form
+    /// (A^G p)_i = Σ_j a_ij (p_i + p_j) / ω_i, whose divergence partner Σ_j a_ij·(u_j − u_i) / ω_i
+    /// is its negative adjoint in the ω inner product: the pressure does no work on the fluid but
+    /// at the walls and through the free-surface rows' pressure. ω_i = V_i but on the rows with a
+    /// free-surface particle in their support, whose weights are unknowns of the least squares
+    /// too (the boundary weights of a diagonal-norm SBP operator; work.weight returns them). Exact for linear fields on every fluid row (on a
     /// free-surface row, @p surface, for those that vanish @p surface_depth above it along the
     /// last step's ∇p, @p grad_p (dim arrays; null: the neighbours' centroid), which is the
     /// free-surface offset) and zero for constants off the free surface. The smallest correction
