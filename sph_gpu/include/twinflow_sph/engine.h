@@ -77,10 +77,11 @@ namespace twinflow::sph
     bool               surface_offset = true;
     /// Experimental, not a scene option: the consistent A^G made a summation-by-parts pair
     /// (make_gradient_conservative), its constraints relaxed by μ = conservative_regularisation
-    /// on the rows with fewer than free_surface_min_neighbours entries. Still water rests and the
-    /// α = 0 collapse gains no energy; at α > 0 the run still gains 2-4 % unless
-    /// shifting_velocity_correction is on too; each step costs a CG of 50-200 iterations, and the
-    /// splash scene kicks at its start (doc/benchmarks.md).
+    /// on the rows with fewer than free_surface_min_neighbours entries, the weights ω of the rows
+    /// near the free surface free. Still water rests and the α = 0 collapse gains no energy; at
+    /// α > 0 the run still gains 2-4 % unless shifting_velocity_correction is on too. Each step
+    /// costs a CG of 50-500 iterations at a/10, but ~1,400 on a column 100 particles wide (the
+    /// multipliers' near-null space; doc/benchmarks.md, "The surface norm").
     bool               conservative_gradient       = false;
     double             conservative_regularisation = 10;
     /// Experimental, not a scene option: a shifted particle's velocity is carried to its new
