@@ -28,9 +28,12 @@
 // Lagrange multipliers y_i = (λ_i, M_i), c_ij = w_ij [λ_i − λ_j + M_i (r_ji + s_i)/h + M_j (r_ji − s_j)/h]
 // (marker: w_im [λ_i + M_i (r_mi + s_i)/h]), δω_i = −(1/h) tr M_i, and the multipliers solve
 // (K + μ) y = −R(a⁰), K = J W Jᵀ + E Eᵀ symmetric positive semi-definite (E: the weights' columns),
-// by conjugate gradients with a block-Jacobi preconditioner;
+// by conjugate gradients preconditioned by block Jacobi plus, on the CPU backend, a coarse space
+// of the smooth modes K nearly annihilates (conservative_coarse.inl);
 // μ_i > 0 only on rows too thinly supported to carry the constraints (Geometry::mu).
+#include <thrust/host_vector.h>
 #include <thrust/inner_product.h>
+#include <cstdlib>
 #include <thrust/transform.h>
 
 namespace twinflow::sph::TWINFLOW_SPH_BACKEND
@@ -447,7 +450,14 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       TWINFLOW_HD void operator()(const int k) const { out[k] = x[k] + a * y[k]; }
     };
   } // namespace conservative_detail
+} // namespace twinflow::sph::TWINFLOW_SPH_BACKEND
 
+#ifndef __CUDACC__ // the coarse level (host code, Eigen): CPU backend only
+#include "conservative_coarse.inl"
+#endif
+
+namespace twinflow::sph::TWINFLOW_SPH_BACKEND
+{
   template <int dim>
   ConservativeGradientReport make_gradient_conservative(const dvec<Vec<dim>> &x, const dvec<double> &V,
                                                         const NeighborList &nl, const DomainBox<dim> &box,
@@ -533,8 +543,35 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     auto axpy = [&](dvec<double> &out, const dvec<double> &a, const double s, const dvec<double> &b) {
       thrust::for_each(exec, first, first + static_cast<int>(m), AxpyF{ptr(out), ptr(a), s, ptr(b)});
     };
+#ifndef __CUDACC__
+    CoarseSpace<dim> coarse; // conservative_coarse.inl
+    {
+      const thrust::host_vector<Vec<dim>> hx = x;
+      const thrust::host_vector<int> hk = kind, hr = work.rows, hf = work.free_weight, ho = nl.offsets, hi = nl.indices;
+      const thrust::host_vector<geometry::Vec<dim>> hs = work.shift;
+      std::vector<geometry::Vec<dim>> xs(hx.begin(), hx.end()), ss(hs.begin(), hs.end());
+      std::vector<int> kinds(hk.begin(), hk.end()), rws(hr.begin(), hr.end()), fw(hf.begin(), hf.end()),
+        offs(ho.begin(), ho.end()), idx(hi.begin(), hi.end()), act(n);
+      std::vector<double> mus(n);
+      for (int i = 0; i < n; ++i)
+      {
+        act[i] = kinds[i] == ParticleKind::fluid && rws[i] != none;
+        fw[i]  = fw[i] && act[i];
+        mus[i] = offs[i + 1] - offs[i] < relax_below ? regularisation : 0.0;
+      }
+      coarse.setup(xs, act, kinds, rws, fw, mus, offs, idx, ss, box, W.support(), g.inv_h);
+    }
+#endif
     auto precondition = [&]() {
       thrust::for_each(exec, first, first + n, PreconditionF<dim>{ptr(work.blocks), ptr(work.r), ptr(work.z)});
+#ifndef __CUDACC__
+      if (coarse.ok)
+      {
+        std::vector<double> hr(work.r.begin(), work.r.end()), hz(work.z.begin(), work.z.end());
+        coarse.apply(hr, hz);
+        thrust::copy(hz.begin(), hz.end(), work.z.begin());
+      }
+#endif
     };
     const double b_norm = std::sqrt(dot(work.b, work.b));
     report.initial      = b_norm;

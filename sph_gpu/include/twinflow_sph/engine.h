@@ -80,8 +80,9 @@ namespace twinflow::sph
     /// on the rows with fewer than free_surface_min_neighbours entries, the weights ω of the rows
     /// near the free surface free. Still water rests and the α = 0 collapse gains no energy; at
     /// α > 0 the run still gains 2-4 % unless shifting_velocity_correction is on too. Each step
-    /// costs a CG of 50-500 iterations at a/10, but ~1,400 on a column 100 particles wide (the
-    /// multipliers' near-null space; doc/benchmarks.md, "The surface norm").
+    /// costs a CG of ~45 (a/10) to ~80 (a column 100 particles wide) iterations with the coarse
+    /// space of the CPU backend; block Jacobi alone (CUDA) needs 280 / 16,000+ (doc/benchmarks.md,
+    /// "The surface norm").
     bool               conservative_gradient       = false;
     double             conservative_regularisation = 10;
     /// Experimental, not a scene option: a shifted particle's velocity is carried to its new
