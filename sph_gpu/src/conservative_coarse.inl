@@ -115,7 +115,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
             c[d] = s;
           }
         };
-        std::vector<geometry::Vec<dim>> ci(n_modes), cj(n_modes);
+        std::vector<geometry::Vec<dim>> ci(n_modes), cj(n_modes), u(n_modes), v(n_modes);
         for (int i = 0; i < n; ++i)
         {
           if (cell_of[i] < 0)
@@ -141,7 +141,6 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
             }
             const int ca = cell_of[i], cb = fj ? cell_of[j] : -1;
             // c(z) for z of cell ca: ci (and −cj if cb == ca); for z of cell cb: −cj
-            std::vector<geometry::Vec<dim>> u(n_modes), v(n_modes);
             for (int a = 0; a < n_modes; ++a)
             {
               u[a] = ci[a];
@@ -206,13 +205,13 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
         ok = solver.info() == Eigen::Success;
       }
 
-      /// z += Z E⁻¹ Zᵀ r
-      void apply(const std::vector<double> &r, std::vector<double> &z) const
+      /// z += Z E⁻¹ Zᵀ r (host arrays of nc values per particle)
+      void apply(const double *r, double *z) const
       {
         if (!ok)
           return;
         const int n = static_cast<int>(cell_of.size());
-        Eigen::VectorXd rr = Eigen::VectorXd::Zero(static_cast<long>(n_cells) * n_modes);
+        rr.setZero(static_cast<long>(n_cells) * n_modes);
         for (int i = 0; i < n; ++i)
         {
           if (cell_of[i] < 0)
@@ -226,7 +225,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
             rr[cell_of[i] * n_modes + a] += s;
           }
         }
-        const Eigen::VectorXd e = solver.solve(rr);
+        e = solver.solve(rr);
         for (int i = 0; i < n; ++i)
         {
           if (cell_of[i] < 0)
@@ -272,6 +271,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       std::vector<geometry::Vec<dim>>                  centres;
       std::vector<double>                              basis;
       Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver;
+      mutable Eigen::VectorXd                          rr, e; ///< restricted residual, coarse solution
     };
   } // namespace conservative_detail
 } // namespace twinflow::sph::TWINFLOW_SPH_BACKEND

@@ -544,7 +544,8 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       thrust::for_each(exec, first, first + static_cast<int>(m), AxpyF{ptr(out), ptr(a), s, ptr(b)});
     };
 #ifndef __CUDACC__
-    CoarseSpace<dim> coarse; // conservative_coarse.inl
+    CoarseSpace<dim>            coarse; // conservative_coarse.inl
+    thrust::host_vector<double> host_r(m), host_z(m); // the CG vectors on the host, reused
     {
       const thrust::host_vector<Vec<dim>> hx = x;
       const thrust::host_vector<int> hk = kind, hr = work.rows, hf = work.free_weight, ho = nl.offsets, hi = nl.indices;
@@ -567,9 +568,10 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
 #ifndef __CUDACC__
       if (coarse.ok)
       {
-        std::vector<double> hr(work.r.begin(), work.r.end()), hz(work.z.begin(), work.z.end());
-        coarse.apply(hr, hz);
-        thrust::copy(hz.begin(), hz.end(), work.z.begin());
+        thrust::copy(work.r.begin(), work.r.end(), host_r.begin());
+        thrust::copy(work.z.begin(), work.z.end(), host_z.begin());
+        coarse.apply(host_r.data(), host_z.data());
+        thrust::copy(host_z.begin(), host_z.end(), work.z.begin());
       }
 #endif
     };
