@@ -24,6 +24,10 @@ set(TWINFLOW_SPH_OPT $<$<NOT:$<CONFIG:Debug>>:-O3 -DNDEBUG>)
 target_compile_options(twinflow_sph_cpu PRIVATE -Wall -Wextra ${TWINFLOW_SPH_OPT})
 target_link_libraries(twinflow_sph_cpu PUBLIC OpenMP::OpenMP_CXX)
 target_link_libraries(twinflow_sph_cpu PRIVATE Eigen3::Eigen) # the coarse solve of conservative_coarse.inl
+find_library(TWINFLOW_CHOLMOD cholmod REQUIRED)
+find_path(TWINFLOW_CHOLMOD_INCLUDE cholmod.h PATH_SUFFIXES suitesparse REQUIRED)
+target_include_directories(twinflow_sph_cpu PRIVATE ${TWINFLOW_CHOLMOD_INCLUDE})
+target_link_libraries(twinflow_sph_cpu PRIVATE ${TWINFLOW_CHOLMOD})
 set_target_properties(twinflow_sph_cpu PROPERTIES POSITION_INDEPENDENT_CODE ON)
 
 if(TWINFLOW_HAVE_CUDA)

@@ -13,6 +13,7 @@
 // column (to 1e-8).
 #include <Eigen/Sparse>
 #include <Eigen/SparseCholesky>
+#include <Eigen/CholmodSupport>
 
 #include <array>
 #include <cmath>
@@ -31,8 +32,10 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       static constexpr int n_modes = dim * n_poly;
       static constexpr int nc      = kUnknowns<dim>;
 
+      /// The cells of the active rows (a lattice of size @p cell anchored at the origin), the
+      /// basis, E = Zᵀ K Z and its factorisation. @p free_w: the rows' f_i of E Eᵀ.
       void setup(const std::vector<geometry::Vec<dim>> &x, const std::vector<int> &active_rows,
-                 const std::vector<int> &kind, const std::vector<int> &rows, const std::vector<int> &free_w,
+                 const std::vector<int> &kind, const std::vector<int> &rows, const std::vector<double> &free_w,
                  const std::vector<double> &mu, const std::vector<int> &offsets, const std::vector<int> &indices,
                  const std::vector<geometry::Vec<dim>> &shift, const DomainBox<dim> &box, const double cell,
                  const double inv_h)
@@ -40,55 +43,27 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
         const int n = static_cast<int>(x.size());
         this->inv_h = inv_h;
         L           = cell;
-        // cells of the active rows
-        geometry::Vec<dim> lo;
-        for (int d = 0; d < dim; ++d)
-          lo[d] = 1e300;
-        for (int i = 0; i < n; ++i)
-          if (active_rows[i])
-            for (int d = 0; d < dim; ++d)
-              lo[d] = std::min(lo[d], x[i][d]);
         cell_of.assign(n, -1);
-        std::map<std::array<long, dim>, int> ids;
+        ids.clear();
         centres.clear();
         for (int i = 0; i < n; ++i)
         {
           if (!active_rows[i])
             continue;
-          std::array<long, dim> key;
-          for (int d = 0; d < dim; ++d)
-            key[d] = static_cast<long>(std::floor((x[i][d] - lo[d]) / cell));
-          auto it = ids.find(key);
+          const auto key = key_of(x[i]);
+          auto       it  = ids.find(key);
           if (it == ids.end())
           {
             it = ids.emplace(key, static_cast<int>(centres.size())).first;
             geometry::Vec<dim> c;
             for (int d = 0; d < dim; ++d)
-              c[d] = lo[d] + (key[d] + 0.5) * cell;
+              c[d] = (key[d] + 0.5) * L;
             centres.push_back(c);
           }
           cell_of[i] = it->second;
         }
         n_cells = static_cast<int>(centres.size());
-        // basis values per particle: modes × nc (masked)
-        basis.assign(static_cast<std::size_t>(n) * n_modes * nc, 0.0);
-        for (int i = 0; i < n; ++i)
-        {
-          if (cell_of[i] < 0)
-            continue;
-          const geometry::Vec<dim> xi = box.difference(x[i], centres[cell_of[i]]) * (1.0 / L);
-          double                   phi[n_poly], grad[n_poly][dim];
-          poly(xi, phi, grad);
-          for (int d = 0; d < dim; ++d)
-            for (int q = 0; q < n_poly; ++q)
-            {
-              double *z = &basis[(static_cast<std::size_t>(i) * n_modes + d * n_poly + q) * nc];
-              if (rows[i] == linear_and_constant)
-                z[d] = phi[q];
-              for (int e = 0; e < dim; ++e)
-                z[dim + dim * d + e] = 0.5 / inv_h * grad[q][e] / L;
-            }
-        }
+        evaluate_basis(x, rows, box);
         // E = Zᵀ K Z from the pair energy
         std::map<std::pair<int, int>, std::vector<double>> blocks;
         auto block = [&](const int a, const int b) -> std::vector<double> & {
@@ -180,7 +155,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
                   ta += za[dim + dim * d + d];
                   tb += zb[dim + dim * d + d];
                 }
-                s += ta * tb * inv_h * inv_h;
+                s += free_w[i] * ta * tb * inv_h * inv_h;
               }
               block(cell_of[i], cell_of[i])[a * n_modes + b] += s;
             }
@@ -243,6 +218,39 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       bool ok = false;
 
     private:
+      std::array<long, dim> key_of(const geometry::Vec<dim> &x) const
+      {
+        std::array<long, dim> key;
+        for (int d = 0; d < dim; ++d)
+          key[d] = static_cast<long>(std::floor(x[d] / L));
+        return key;
+      }
+
+      /// basis values per particle: modes × nc (masked like the rows)
+      void evaluate_basis(const std::vector<geometry::Vec<dim>> &x, const std::vector<int> &rows,
+                          const DomainBox<dim> &box)
+      {
+        const int n = static_cast<int>(x.size());
+        basis.assign(static_cast<std::size_t>(n) * n_modes * nc, 0.0);
+        for (int i = 0; i < n; ++i)
+        {
+          if (cell_of[i] < 0)
+            continue;
+          const geometry::Vec<dim> xi = box.difference(x[i], centres[cell_of[i]]) * (1.0 / L);
+          double                   phi[n_poly], grad[n_poly][dim];
+          poly(xi, phi, grad);
+          for (int d = 0; d < dim; ++d)
+            for (int q = 0; q < n_poly; ++q)
+            {
+              double *z = &basis[(static_cast<std::size_t>(i) * n_modes + d * n_poly + q) * nc];
+              if (rows[i] == linear_and_constant)
+                z[d] = phi[q];
+              for (int e = 0; e < dim; ++e)
+                z[dim + dim * d + e] = 0.5 / inv_h * grad[q][e] / L;
+            }
+        }
+      }
+
       static void poly(const geometry::Vec<dim> &xi, double *phi, double (*grad)[dim])
       {
         for (int q = 0; q < n_poly; ++q)
@@ -270,7 +278,8 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       std::vector<int>                                 cell_of;
       std::vector<geometry::Vec<dim>>                  centres;
       std::vector<double>                              basis;
-      Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver;
+      std::map<std::array<long, dim>, int>             ids; ///< the cells' lattice keys
+      Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> solver;
       mutable Eigen::VectorXd                          rr, e; ///< restricted residual, coarse solution
     };
   } // namespace conservative_detail

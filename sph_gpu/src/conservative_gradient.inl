@@ -50,6 +50,9 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     /// CFL 1 asked ω < 0 at its toe from step 25 and diverged at step 31; clamped it gains 0.06 %).
     constexpr double kWeightFloor = 0.5;
 
+    /// The coarse cells' size over the kernel support (conservative_coarse.inl).
+    constexpr double kCoarseCell = 1.0;
+
     /// What a particle's row must satisfy.
     enum RowConstraints : int { none = 0, linear = 1, linear_and_constant = 2 };
 
@@ -65,12 +68,18 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       /// surface): its linear fields vanish at x_i + d n_i; zero elsewhere
       const geometry::Vec<dim> *shift = nullptr;
       double              inv_h   = 1.0;
-      /// 1 on the rows whose weight ω_i is free (a free-surface particle in the support)
-      const int          *free_weight = nullptr;
+      /// f_i ∈ [0, 1]: how free the row's weight ω_i is (FreeWeightF: the free-surface particles
+      /// in its support, kernel-weighted, so f moves continuously as they come and go)
+      const double       *free_weight = nullptr;
 
-      TWINFLOW_HD bool weight_free(const int i) const { return free_weight && free_weight[i] && rows[i] != none; }
-      /// δω_i = −Eᵢᵀ y = −(1/h) Σ_d M_i,dd of the multipliers y (unit weight in the least
-      /// squares: a weight 4 or 16 gave the same ω, which the local constraints determine)
+      TWINFLOW_HD double freedom(const int i) const
+      {
+        return free_weight && rows[i] != none ? free_weight[i] : 0.0;
+      }
+      TWINFLOW_HD bool weight_free(const int i) const { return freedom(i) > 0; }
+      /// δω_i = −f_i Eᵢᵀ y = −(f_i/h) Σ_d M_i,dd of the multipliers y: the least squares
+      /// minimise Σ|c|² + Σ δω_i² / f_i (with a unit weight, 4 or 16 gave the same ω, which the
+      /// local constraints determine)
       TWINFLOW_HD double delta_weight(const int i, const double *y) const
       {
         if (!weight_free(i))
@@ -78,7 +87,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
         double t = 0;
         for (int d = 0; d < dim; ++d)
           t += y[kUnknowns<dim> * i + dim + dim * d + d];
-        return -t * inv_h;
+        return -t * inv_h * free_weight[i];
       }
 
       TWINFLOW_HD bool fluid(const int j) const { return kind[j] == ParticleKind::fluid; }
@@ -276,10 +285,10 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
           });
         for (int a = 0; a < nc; ++a)
           D[nc * a + a] += g.mu(i);
-        if (g.weight_free(i)) // E Eᵀ
+        if (g.weight_free(i)) // f E Eᵀ
           for (int d = 0; d < dim; ++d)
             for (int e = 0; e < dim; ++e)
-              D[nc * (dim + dim * d + d) + dim + dim * e + e] += g.inv_h * g.inv_h;
+              D[nc * (dim + dim * d + d) + dim + dim * e + e] += g.freedom(i) * g.inv_h * g.inv_h;
         for (int a = 0; a < nc; ++a)
           for (int b = 0; b < nc; ++b)
             if (!active[a] || !active[b])
@@ -287,7 +296,40 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       }
     };
 
-    /// z_i = D_i⁻¹ r_i (D_i singular: z_i = r_i / max diagonal).
+    /// The block-Jacobi preconditioner's D_i⁻¹, once per step.
+    template <int dim>
+    struct InvertBlockF
+    {
+      double *blocks = nullptr; ///< in: the diagonal blocks; out: their inverses
+
+      /// A singular block (a row without constraints) becomes 1/max diag on its diagonal.
+      TWINFLOW_HD void operator()(const int i) const
+      {
+        constexpr int nc = kUnknowns<dim>;
+        double        K[nc][nc], e[nc], col[nc], inv[nc][nc];
+        double        dmax = 0;
+        for (int a = 0; a < nc; ++a)
+          dmax = blocks[nc * nc * i + nc * a + a] > dmax ? blocks[nc * nc * i + nc * a + a] : dmax;
+        bool ok = true;
+        for (int c = 0; c < nc && ok; ++c)
+        {
+          for (int a = 0; a < nc; ++a)
+          {
+            for (int b = 0; b < nc; ++b)
+              K[a][b] = blocks[nc * nc * i + nc * a + b];
+            e[a] = a == c ? 1.0 : 0.0;
+          }
+          ok = operators_detail::solve<nc>(K, e, col);
+          for (int a = 0; a < nc; ++a)
+            inv[a][c] = col[a];
+        }
+        for (int a = 0; a < nc; ++a)
+          for (int b = 0; b < nc; ++b)
+            blocks[nc * nc * i + nc * a + b] = ok ? inv[a][b] : a == b && dmax > 0 ? 1.0 / dmax : 0.0;
+      }
+    };
+
+    /// z_i = D_i⁻¹ r_i (blocks inverted by InvertBlockF)
     template <int dim>
     struct PreconditionF
     {
@@ -297,21 +339,13 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       TWINFLOW_HD void operator()(const int i) const
       {
         constexpr int nc = kUnknowns<dim>;
-        double        K[nc][nc], b[nc], y[nc];
-        double        dmax = 0;
         for (int a = 0; a < nc; ++a)
         {
+          double s = 0;
           for (int c = 0; c < nc; ++c)
-            K[a][c] = blocks[nc * nc * i + nc * a + c];
-          b[a] = r[nc * i + a];
-          dmax = K[a][a] > dmax ? K[a][a] : dmax;
+            s += blocks[nc * nc * i + nc * a + c] * r[nc * i + c];
+          z[nc * i + a] = s;
         }
-        if (operators_detail::solve<nc>(K, b, y))
-          for (int a = 0; a < nc; ++a)
-            z[nc * i + a] = y[a];
-        else
-          for (int a = 0; a < nc; ++a)
-            z[nc * i + a] = dmax > 0 ? r[nc * i + a] / dmax : 0.0;
       }
     };
 
@@ -422,22 +456,27 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       }
     };
 
-    /// free[i] = 1 on the fluid rows with a free-surface particle in their support.
+    /// free[i] = min(1, Σ_{j free-surface fluid} W_ij / W(h)) on the fluid rows: 1 on the
+    /// free-surface particles and the row below them, fading to 0 as the last one leaves the
+    /// support (a 0/1 flag switched rows two spacings deep whenever a surface particle's flag
+    /// flickered, and their multipliers jumped: the last step's were a worse start than zero).
     template <int dim>
     struct FreeWeightF
     {
       NeighborView<dim> nb;
       const int        *kind = nullptr, *surface = nullptr;
-      int              *free = nullptr;
+      double            W_h  = 1.0; ///< W at r = h
+      double           *free = nullptr;
 
       TWINFLOW_HD void operator()(const int i) const
       {
-        int f = 0;
+        double f = 0;
         if (kind[i] == ParticleKind::fluid && surface)
-          for_each_neighbor(nb, i, [&](const int j, int, const geometry::Vec<dim> &) {
-            f = f || (kind[j] == ParticleKind::fluid && surface[j]);
+          for_each_neighbor(nb, i, [&](const int j, int, const geometry::Vec<dim> &r) {
+            if (kind[j] == ParticleKind::fluid && surface[j])
+              f += nb.w(r) / W_h;
           });
-        free[i] = f;
+        free[i] = f < 1 ? f : 1.0;
       }
     };
 
@@ -514,6 +553,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       fw.nb      = g.nb;
       fw.kind    = ptr(kind);
       fw.surface = surface ? ptr(*surface) : nullptr;
+      fw.W_h     = W.value(0.5 * W.support());
       fw.free    = ptr(work.free_weight);
       thrust::for_each(exec, first, first + n, fw);
     }
@@ -530,6 +570,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     work.blocks.resize(m * nc);
     thrust::for_each(exec, first, first + n, ResidualF<dim>{g, ptr(work.b)});
     thrust::for_each(exec, first, first + n, DiagonalBlockF<dim>{g, ptr(work.blocks)});
+    thrust::for_each(exec, first, first + n, InvertBlockF<dim>{ptr(work.blocks)});
     auto apply = [&](const dvec<double> &in, dvec<double> &out) {
       ApplyF<dim> f;
       f.g   = g;
@@ -544,23 +585,26 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       thrust::for_each(exec, first, first + static_cast<int>(m), AxpyF{ptr(out), ptr(a), s, ptr(b)});
     };
 #ifndef __CUDACC__
-    CoarseSpace<dim>            coarse; // conservative_coarse.inl
-    thrust::host_vector<double> host_r(m), host_z(m); // the CG vectors on the host, reused
+    if (!work.coarse)
+      work.coarse = std::make_shared<CoarseSpace<dim>>();
+    CoarseSpace<dim>           &coarse = *work.coarse; // conservative_coarse.inl
+    thrust::host_vector<double> host_r(m), host_z(m);  // the CG vectors on the host, reused
     {
-      const thrust::host_vector<Vec<dim>> hx = x;
-      const thrust::host_vector<int> hk = kind, hr = work.rows, hf = work.free_weight, ho = nl.offsets, hi = nl.indices;
+      const thrust::host_vector<Vec<dim>>          hx = x;
+      const thrust::host_vector<int>               hk = kind, hr = work.rows, ho = nl.offsets, hi = nl.indices;
+      const thrust::host_vector<double>            hf = work.free_weight;
       const thrust::host_vector<geometry::Vec<dim>> hs = work.shift;
       std::vector<geometry::Vec<dim>> xs(hx.begin(), hx.end()), ss(hs.begin(), hs.end());
-      std::vector<int> kinds(hk.begin(), hk.end()), rws(hr.begin(), hr.end()), fw(hf.begin(), hf.end()),
-        offs(ho.begin(), ho.end()), idx(hi.begin(), hi.end()), act(n);
-      std::vector<double> mus(n);
+      std::vector<int> kinds(hk.begin(), hk.end()), rws(hr.begin(), hr.end()), offs(ho.begin(), ho.end()),
+        idx(hi.begin(), hi.end()), act(n);
+      std::vector<double> fw(hf.begin(), hf.end()), mus(n);
       for (int i = 0; i < n; ++i)
       {
         act[i] = kinds[i] == ParticleKind::fluid && rws[i] != none;
-        fw[i]  = fw[i] && act[i];
+        fw[i]  = act[i] ? fw[i] : 0.0;
         mus[i] = offs[i + 1] - offs[i] < relax_below ? regularisation : 0.0;
       }
-      coarse.setup(xs, act, kinds, rws, fw, mus, offs, idx, ss, box, W.support(), g.inv_h);
+      coarse.setup(xs, act, kinds, rws, fw, mus, offs, idx, ss, box, kCoarseCell * W.support(), g.inv_h);
     }
 #endif
     auto precondition = [&]() {
@@ -580,6 +624,12 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     apply(work.y, work.q);
     axpy(work.r, work.b, -1.0, work.q); // r = b − K y
     double r_norm = std::sqrt(dot(work.r, work.r));
+    if (r_norm > b_norm) // the last step's multipliers are a worse start than none
+    {
+      thrust::fill(exec, work.y.begin(), work.y.end(), 0.0);
+      thrust::copy(exec, work.b.begin(), work.b.end(), work.r.begin());
+      r_norm = b_norm;
+    }
     if (b_norm > 0 && r_norm > tolerance * b_norm)
     {
       precondition();

@@ -5,6 +5,8 @@
  * volumes V_i = 1/Σ_j W_ij, the correction tensors G (Eq. 24) and L (Eq. 25–26), and the
  * gradient A^G (Eq. 19 / 22, 36–39) and Laplacian A^L (Eq. 20 / 23, 27–29) matrices.
  */
+#include <memory>
+
 #include <twinflow_sph/backend.h>
 #include <twinflow_sph/domain.h>
 #include <twinflow_sph/kernel.h>
@@ -74,15 +76,24 @@ namespace twinflow::sph
       bool   converged  = true;
     };
 
+    namespace conservative_detail
+    {
+      template <int dim>
+      class CoarseSpace; // conservative_coarse.inl (host code, CPU backend)
+    }
+
     /// Work arrays of make_gradient_conservative(), kept between steps (y: the multipliers, a
-    /// warm start while the particle count is unchanged).
+    /// warm start while the particle count is unchanged; coarse: the two-level preconditioner's
+    /// coarse level, refactored only when it has gone stale).
     template <int dim>
     struct ConservativeGradientWork
     {
-      dvec<int>    rows, free_weight;
+      dvec<int>    rows;
+      dvec<double> free_weight; ///< f_i ∈ [0, 1]: how free ω_i is (FreeWeightF)
       dvec<double> y, b, r, z, p, q, blocks;
       dvec<double> weight; ///< out: the quadrature weight ω_i of each row (V_i where not free)
       dvec<Vec<dim>> shift;
+      std::shared_ptr<conservative_detail::CoarseSpace<dim>> coarse;
     };
 
     /// Rewrites the fluid rows of the consistent A^G as a summation-by-parts pair: coefficients
