@@ -8,7 +8,10 @@
 // adjacent cells couple), for each component d, λ_d = φ(ξ) with φ ∈ {1, ξ_e, ξ_e ξ_f} (6 in 2D,
 // 10 in 3D; ξ the position in the cell over the cell size) and M_d = (h/2)∇φ, masked like the
 // rows. E = Zᵀ K Z is assembled from the pair energy, Σ_pairs c(z_a)·c(z_b) + μ + the weights'
-// E Eᵀ, and factored once per step by a sparse LDLᵀ (Eigen); the preconditioner is additive,
+// E F Eᵀ, and factored every step by CHOLMOD's supernodal Cholesky (through Eigen; 77 ms on the
+// splash's 10,584 coarse unknowns, Eigen's simplicial LDLᵀ 180 ms). A factorisation kept for
+// later steps is no use: the system jumps with the free-surface flags, and one step later the
+// iterations went from ~105 to 1,300-2,000. The preconditioner is additive,
 // z = D⁻¹ r + Z E⁻¹ Zᵀ r. Measured: 282 → 45 iterations at a/10, 27,668 → 79 on the splash
 // column (to 1e-8).
 #include <Eigen/Sparse>

@@ -24,10 +24,13 @@
 // 1.2-1.9 × the coefficients everywhere, growing with the column (doc/benchmarks.md, "The
 // surface norm"); with the two top rows' weights free, the top three rows close it (1D:
 // ω = (1 + β, 1 − β) V, β the kernel's second-neighbour coefficient), as the boundary weights
-// of a diagonal-norm SBP operator do. ω/V is kept in [kWeightFloor, 1/kWeightFloor]. With the
+// of a diagonal-norm SBP operator do. ω/V is kept in [kWeightFloor, 1/kWeightFloor]. How free a
+// row's weight is, f_i ∈ [0, 1] (penalty δω²/f), follows the surface particles in its support
+// continuously (FreeWeightF): a 0/1 flag made the multipliers jump whenever a surface flag
+// flickered, and the splash kicked. With the
 // Lagrange multipliers y_i = (λ_i, M_i), c_ij = w_ij [λ_i − λ_j + M_i (r_ji + s_i)/h + M_j (r_ji − s_j)/h]
-// (marker: w_im [λ_i + M_i (r_mi + s_i)/h]), δω_i = −(1/h) tr M_i, and the multipliers solve
-// (K + μ) y = −R(a⁰), K = J W Jᵀ + E Eᵀ symmetric positive semi-definite (E: the weights' columns),
+// (marker: w_im [λ_i + M_i (r_mi + s_i)/h]), δω_i = −(f_i/h) tr M_i, and the multipliers solve
+// (K + μ) y = −R(a⁰), K = J W Jᵀ + E F Eᵀ symmetric positive semi-definite (E: the weights' columns),
 // by conjugate gradients preconditioned by block Jacobi plus, on the CPU backend, a coarse space
 // of the smooth modes K nearly annihilates (conservative_coarse.inl);
 // μ_i > 0 only on rows too thinly supported to carry the constraints (Geometry::mu).
