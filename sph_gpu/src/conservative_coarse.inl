@@ -35,15 +35,14 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       static constexpr int n_modes = dim * n_poly;
       static constexpr int nc      = kUnknowns<dim>;
 
-      /// The cells of the active rows (a lattice of size @p cell anchored at the origin), the
-      /// basis, E = Zᵀ K Z and its factorisation. @p free_w: the rows' f_i of E Eᵀ.
-      void setup(const std::vector<geometry::Vec<dim>> &x, const std::vector<int> &active_rows,
-                 const std::vector<int> &kind, const std::vector<int> &rows, const std::vector<double> &free_w,
-                 const std::vector<double> &mu, const std::vector<int> &offsets, const std::vector<int> &indices,
-                 const std::vector<geometry::Vec<dim>> &shift, const DomainBox<dim> &box, const double cell,
-                 const double inv_h)
+      /// The cells of the active rows (fluid rows with constraints; a lattice of size @p cell
+      /// anchored at the origin), the basis, E = Zᵀ K Z and its factorisation. The arrays are the
+      /// CPU backend's (host memory): @p free_w the rows' f_i of E F Eᵀ, μ = @p regularisation on
+      /// the rows with fewer than @p relax_below neighbour entries.
+      void setup(const int n, const geometry::Vec<dim> *x, const int *kind, const int *rows, const double *free_w,
+                 const int *offsets, const int *indices, const geometry::Vec<dim> *shift, const double relax_below,
+                 const double regularisation, const DomainBox<dim> &box, const double cell, const double inv_h)
       {
-        const int n = static_cast<int>(x.size());
         this->inv_h = inv_h;
         L           = cell;
         cell_of.assign(n, -1);
@@ -51,7 +50,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
         centres.clear();
         for (int i = 0; i < n; ++i)
         {
-          if (!active_rows[i])
+          if (kind[i] != ParticleKind::fluid || rows[i] == none)
             continue;
           const auto key = key_of(x[i]);
           auto       it  = ids.find(key);
@@ -141,7 +140,9 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
               add(cb, v, cb, v);
             }
           }
-          // μ and the weights' E Eᵀ
+          // μ and the weights' E F Eᵀ
+          const double mu = offsets[i + 1] - offsets[i] < relax_below ? regularisation : 0.0;
+          auto        &D  = block(cell_of[i], cell_of[i]);
           for (int a = 0; a < n_modes; ++a)
             for (int b = 0; b < n_modes; ++b)
             {
@@ -149,7 +150,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
               const double *zb = &basis[(static_cast<std::size_t>(i) * n_modes + b) * nc];
               double        s  = 0;
               for (int c = 0; c < nc; ++c)
-                s += mu[i] * za[c] * zb[c];
+                s += mu * za[c] * zb[c];
               if (free_w[i])
               {
                 double ta = 0, tb = 0;
@@ -160,7 +161,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
                 }
                 s += free_w[i] * ta * tb * inv_h * inv_h;
               }
-              block(cell_of[i], cell_of[i])[a * n_modes + b] += s;
+              D[a * n_modes + b] += s;
             }
         }
         const int                          N = n_cells * n_modes;
@@ -183,7 +184,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
         ok = solver.info() == Eigen::Success;
       }
 
-      /// z += Z E⁻¹ Zᵀ r (host arrays of nc values per particle)
+      /// z += Z E⁻¹ Zᵀ r (nc values per particle, the CPU backend's arrays)
       void apply(const double *r, double *z) const
       {
         if (!ok)
@@ -230,10 +231,9 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       }
 
       /// basis values per particle: modes × nc (masked like the rows)
-      void evaluate_basis(const std::vector<geometry::Vec<dim>> &x, const std::vector<int> &rows,
-                          const DomainBox<dim> &box)
+      void evaluate_basis(const geometry::Vec<dim> *x, const int *rows, const DomainBox<dim> &box)
       {
-        const int n = static_cast<int>(x.size());
+        const int n = static_cast<int>(cell_of.size());
         basis.assign(static_cast<std::size_t>(n) * n_modes * nc, 0.0);
         for (int i = 0; i < n; ++i)
         {

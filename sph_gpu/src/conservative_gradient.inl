@@ -34,9 +34,7 @@
 // by conjugate gradients preconditioned by block Jacobi plus, on the CPU backend, a coarse space
 // of the smooth modes K nearly annihilates (conservative_coarse.inl);
 // μ_i > 0 only on rows too thinly supported to carry the constraints (Geometry::mu).
-#include <thrust/host_vector.h>
 #include <thrust/inner_product.h>
-#include <cstdlib>
 #include <thrust/transform.h>
 
 namespace twinflow::sph::TWINFLOW_SPH_BACKEND
@@ -587,39 +585,17 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     auto axpy = [&](dvec<double> &out, const dvec<double> &a, const double s, const dvec<double> &b) {
       thrust::for_each(exec, first, first + static_cast<int>(m), AxpyF{ptr(out), ptr(a), s, ptr(b)});
     };
-#ifndef __CUDACC__
+#ifndef __CUDACC__ // the CPU backend: its arrays are host memory
     if (!work.coarse)
       work.coarse = std::make_shared<CoarseSpace<dim>>();
-    CoarseSpace<dim>           &coarse = *work.coarse; // conservative_coarse.inl
-    thrust::host_vector<double> host_r(m), host_z(m);  // the CG vectors on the host, reused
-    {
-      const thrust::host_vector<Vec<dim>>          hx = x;
-      const thrust::host_vector<int>               hk = kind, hr = work.rows, ho = nl.offsets, hi = nl.indices;
-      const thrust::host_vector<double>            hf = work.free_weight;
-      const thrust::host_vector<geometry::Vec<dim>> hs = work.shift;
-      std::vector<geometry::Vec<dim>> xs(hx.begin(), hx.end()), ss(hs.begin(), hs.end());
-      std::vector<int> kinds(hk.begin(), hk.end()), rws(hr.begin(), hr.end()), offs(ho.begin(), ho.end()),
-        idx(hi.begin(), hi.end()), act(n);
-      std::vector<double> fw(hf.begin(), hf.end()), mus(n);
-      for (int i = 0; i < n; ++i)
-      {
-        act[i] = kinds[i] == ParticleKind::fluid && rws[i] != none;
-        fw[i]  = act[i] ? fw[i] : 0.0;
-        mus[i] = offs[i + 1] - offs[i] < relax_below ? regularisation : 0.0;
-      }
-      coarse.setup(xs, act, kinds, rws, fw, mus, offs, idx, ss, box, kCoarseCell * W.support(), g.inv_h);
-    }
+    CoarseSpace<dim> &coarse = *work.coarse; // conservative_coarse.inl
+    coarse.setup(n, ptr(x), ptr(kind), ptr(work.rows), ptr(work.free_weight), ptr(nl.offsets), ptr(nl.indices),
+                 ptr(work.shift), relax_below, regularisation, box, kCoarseCell * W.support(), g.inv_h);
 #endif
     auto precondition = [&]() {
       thrust::for_each(exec, first, first + n, PreconditionF<dim>{ptr(work.blocks), ptr(work.r), ptr(work.z)});
 #ifndef __CUDACC__
-      if (coarse.ok)
-      {
-        thrust::copy(work.r.begin(), work.r.end(), host_r.begin());
-        thrust::copy(work.z.begin(), work.z.end(), host_z.begin());
-        coarse.apply(host_r.data(), host_z.data());
-        thrust::copy(host_z.begin(), host_z.end(), work.z.begin());
-      }
+      coarse.apply(ptr(work.r), ptr(work.z));
 #endif
     };
     const double b_norm = std::sqrt(dot(work.b, work.b));

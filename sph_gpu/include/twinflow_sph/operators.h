@@ -84,7 +84,7 @@ namespace twinflow::sph
 
     /// Work arrays of make_gradient_conservative(), kept between steps (y: the multipliers, a
     /// warm start while the particle count is unchanged; coarse: the two-level preconditioner's
-    /// coarse level, refactored only when it has gone stale).
+    /// coarse level, set up every step in buffers kept between steps).
     template <int dim>
     struct ConservativeGradientWork
     {
