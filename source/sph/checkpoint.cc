@@ -12,7 +12,7 @@ namespace twinflow::sph
 {
   namespace
   {
-    constexpr char magic[8] = {'T', 'W', 'S', 'P', 'H', 'C', 'K', '2'};
+    constexpr char magic[8] = {'T', 'W', 'S', 'P', 'H', 'C', 'K', '3'};
 
     template <typename T>
     void put(std::ofstream &f, const T *data, const std::size_t count)
@@ -69,9 +69,9 @@ namespace twinflow::sph
       put(f, pos.next_output);
       put(f, n_outputs);
       put(f, pos.output_times.data(), pos.output_times.size());
-      const double budget[5] = {pos.budget.viscous, pos.budget.body_force, pos.budget.pressure, pos.budget.potential,
-                                pos.budget.shifting};
-      put(f, budget, 5);
+      const double budget[6] = {pos.budget.viscous,   pos.budget.body_force, pos.budget.pressure,
+                                pos.budget.potential, pos.budget.shifting,   pos.budget.density_correction};
+      put(f, budget, 6);
       put(f, P.x.data(), P.size());
       put(f, P.u.data(), P.size());
       put(f, P.p.data(), P.size());
@@ -149,9 +149,9 @@ namespace twinflow::sph
     pos.next_output = r.get<double>();
     pos.output_times.resize(r.get<std::uint64_t>());
     r.get(pos.output_times.data(), pos.output_times.size());
-    double budget[5];
-    r.get(budget, 5);
-    pos.budget = EnergyBudget{budget[0], budget[1], budget[2], budget[3], budget[4]};
+    double budget[6];
+    r.get(budget, 6);
+    pos.budget = EnergyBudget{budget[0], budget[1], budget[2], budget[3], budget[4], budget[5]};
     HostParticles<dim> c;
     c.x.resize(n), c.u.resize(n), c.p.resize(n), c.rho.resize(n);
     std::vector<std::int32_t> kinds(n);

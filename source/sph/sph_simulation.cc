@@ -134,12 +134,12 @@ namespace twinflow::sph
                             {"time", "dt", "velocity iterations", "pressure iterations", "pressure residual", "free-surface particles",
                              "pressure noise"},
                             {"s", "s", "-", "-", "-", "-", "Pa"}, self, "solver");
-      // Where the mechanical energy change came from, summed from t = 0 (EnergyBudget): the five
+      // Where the mechanical energy change came from, summed from t = 0 (EnergyBudget): the six
       // columns add up to the change of the total energy in energy.csv.
       io::CsvMonitor energy_budget(dir + "/energy_budget.csv",
                                    {"time", "viscous", "body force work", "pressure correction", "potential of the move",
-                                    "shifting"},
-                                   {"s", "J", "J", "J", "J", "J"}, self, "energy budget");
+                                    "shifting", "density-error displacement"},
+                                   {"s", "J", "J", "J", "J", "J", "J"}, self, "energy budget");
       for (const auto &row : budget_rows)
         energy_budget.append(row);
       double noise_sum = 0, noise_time = 0; // time average of the pressure noise
@@ -303,7 +303,7 @@ namespace twinflow::sph
 
       if (!restart)
       {
-        energy_budget.append({0.0, 0.0, 0.0, 0.0, 0.0, 0.0});
+        energy_budget.append({0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0});
         monitors(0, 0, nullptr);
         snapshot(0);
         write(0);
@@ -404,7 +404,9 @@ namespace twinflow::sph
         budget.pressure += r.budget.pressure;
         budget.potential += r.budget.potential;
         budget.shifting += r.budget.shifting;
-        energy_budget.append({t, budget.viscous, budget.body_force, budget.pressure, budget.potential, budget.shifting});
+        budget.density_correction += r.budget.density_correction;
+        energy_budget.append({t, budget.viscous, budget.body_force, budget.pressure, budget.potential, budget.shifting,
+                              budget.density_correction});
         if (open.active())
         {
           engine->get_particles(P);
@@ -456,6 +458,7 @@ namespace twinflow::sph
       result.monitors["energy budget: pressure correction [J]"]   = budget.pressure;
       result.monitors["energy budget: potential of the move [J]"] = budget.potential;
       result.monitors["energy budget: shifting [J]"]              = budget.shifting;
+      result.monitors["energy budget: density-error displacement [J]"] = budget.density_correction;
       if (scene.reference_hydrostatic)
       {
         // Fluid at rest: final bulk pressure against rho |g| (H_0 - y) (hydrostatic_check.h).

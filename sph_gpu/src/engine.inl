@@ -190,7 +190,8 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       report.budget.pressure = fluid_energy(u, false) - ke1;
       // the shifting's and the pair separation's potential-energy changes (positions only)
       report.budget.shifting  = (settings.shifting > 0 ? fluid_energy(x, true) - pe_moved : 0.0) + separation_pe;
-      report.budget.potential = (settings.shifting > 0 ? pe_moved : fluid_energy(x, true)) - pe0;
+      report.budget.density_correction = density_pe;
+      report.budget.potential = (settings.shifting > 0 ? pe_moved : fluid_energy(x, true)) - pe0 - density_pe;
       report.t_update  = clock.lap();
       return report;
     }
@@ -204,6 +205,20 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       e.x         = ptr(f);
       e.m0        = m0;
       e.potential = potential;
+      for (int d = 0; d < dim; ++d)
+        e.g[d] = settings.gravity[d];
+      const thrust::counting_iterator<int> first(0);
+      return thrust::transform_reduce(exec, first, first + n, e, 0.0, thrust::plus<double>());
+    }
+
+    /// ΔPE of the density-error displacement −Δt²/ρ0 ∇q (EnergyBudget::density_correction).
+    double displacement_energy(const double dt) const
+    {
+      detail::DisplacementEnergy<dim> e;
+      e.p      = particles();
+      e.grad_q = components(grad_q);
+      e.scale  = dt * dt / settings.rho0;
+      e.m0     = m0;
       for (int d = 0; d < dim; ++d)
         e.g[d] = settings.gravity[d];
       const thrust::counting_iterator<int> first(0);
@@ -534,6 +549,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
           for_each_particle(pg);
         }
       }
+      density_pe = position_correction ? displacement_energy(dt) : 0.0;
       detail::CorrectAndMove<dim> cm;
       cm.p         = particles();
       cm.grad_p    = components(grad_p);
@@ -790,6 +806,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     int                solids = 0;
     static constexpr bool pin_confined_pressure = false;
     double             m0 = 0, pe_moved = 0; ///< pe_moved: potential energy before the shift
+    double             density_pe = 0;       ///< ΔPE of the step's density-error displacement
     int                n = 0, pinned = -1;
     bool               position_correction = false;
     StepReport         report;

@@ -665,6 +665,26 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND::detail
     }
   };
 
+  /// ΔPE −m0 g·δx_i of fluid particle i's density-error displacement δx_i = −Δt²/ρ0 ∇q_i
+  /// (EnergyBudget::density_correction); 0 for markers.
+  template <int dim>
+  struct DisplacementEnergy
+  {
+    ParticleView<dim> p; ///< kind
+    Components<dim>   grad_q;
+    double            scale = 0; ///< Δt²/ρ0
+    double            m0 = 0, g[dim] = {};
+    TWINFLOW_HD double operator()(int i) const
+    {
+      if (!p.fluid(i))
+        return 0.0;
+      double e = 0;
+      for (int d = 0; d < dim; ++d)
+        e += m0 * g[d] * scale * grad_q[d][i];
+      return e;
+    }
+  };
+
   /// Work of the body force over the prediction, m0 Δt a·(u^n + u*)/2 (a = gravity + body
   /// force), for fluid particle i: the part of ΔKE of the prediction that is not viscous.
   template <int dim>

@@ -1,11 +1,15 @@
 #!/usr/bin/env python3
-"""Closure of the SPH energy budget: at every step the five columns of energy_budget.csv
-(viscous, body force work, pressure correction, potential of the move, shifting; sums from
-t = 0) add up to the change of the total energy in energy.csv, to round-off (both measured
-from the files' first row: a run restarted into another directory starts them at its restart). Prints the
-largest positive contribution of each term over the run, so a gain can be traced to its step.
+"""Closure of the SPH energy budget: at every step the columns of energy_budget.csv
+(viscous, body force work, pressure correction, potential of the move, shifting, density-error
+displacement; sums from t = 0) add up to the change of the total energy in energy.csv, to
+round-off (both measured from the files' first row: a run restarted into another directory
+starts them at its restart). Prints each term at the energy peak, so a gain can be traced to
+its source.
 
-usage: check_energy_budget.py energy.csv energy_budget.csv
+With --zero COLUMN (repeatable), that column must be exactly zero at every step: a term the
+scene does not call for (the density-error displacement at alpha = 0) must not act.
+
+usage: check_energy_budget.py energy.csv energy_budget.csv [--zero COLUMN]...
 """
 import math
 import sys
@@ -15,8 +19,10 @@ from compare_csv import read  # noqa: E402
 
 
 def main():
-    eh, erows = read(sys.argv[1])
-    bh, brows = read(sys.argv[2])
+    args = sys.argv[1:]
+    zero = [args[k + 1] for k in range(len(args) - 1) if args[k] == "--zero"]
+    eh, erows = read(args[0])
+    bh, brows = read(args[1])
     total = [h.split(" [")[0] for h in eh].index("total energy")
     names = [h.split(" [")[0] for h in bh][1:]
     if len(erows) != len(brows) or not erows:
@@ -37,7 +43,17 @@ def main():
     peak = max(range(len(erows)), key=lambda k: erows[k][total])
     print(f"at the energy peak t = {erows[peak][0]:.4g} s (E - E0 = {erows[peak][total] - e0:.4g} J): " +
           ", ".join(f"{n} {v:.4g}" for n, v in zip(names, brows[peak][1:])))
-    return 0 if math.isfinite(worst) and worst <= 1e-9 * scale else 1
+    ok = math.isfinite(worst) and worst <= 1e-9 * scale
+    for column in zero:
+        if column not in names:
+            print(f"--zero {column!r}: energy_budget.csv has no such column (it has: {', '.join(names)})")
+            return 1
+        k = names.index(column) + 1
+        nonzero = [r[0] for r in brows if r[k] != 0.0]
+        print(f"{column}: " + ("zero at every step" if not nonzero else
+                               f"non-zero from t = {nonzero[0]:.4g} s ({len(nonzero)} rows), expected none"))
+        ok = ok and not nonzero
+    return 0 if ok else 1
 
 
 if __name__ == "__main__":

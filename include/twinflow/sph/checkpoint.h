@@ -6,9 +6,9 @@
  * neighbours, operators and matrices are rebuilt every step), so a run restarted from a
  * checkpoint continues bit for bit as the uninterrupted run would (test_sph_checkpoint).
  *
- * File (binary, native byte order, `SPH/Checkpoint interval`): magic "TWSPHCK2", int32 dim,
+ * File (binary, native byte order, `SPH/Checkpoint interval`): magic "TWSPHCK3", int32 dim,
  * uint64 particle count, the spacing, time, step count, next output time, the output times
- * written so far, the energy budget summed so far (5 doubles, EnergyBudget's order), then
+ * written so far, the energy budget summed so far (6 doubles, EnergyBudget's order), then
  * x, u (dim doubles each), p, ρ (doubles) and the kinds (int32).
  * It is written to `<file>.tmp` and renamed, so a run killed while writing keeps the previous one.
  */

@@ -159,6 +159,9 @@ namespace twinflow::sph
     double pressure   = 0; ///< ΔKE of the correction u* → u^{n+1} (and of the wall clamp)
     double potential  = 0; ///< ΔPE of the move x^n → x^n + Δt u^{n+1} (and of the wall clamp)
     double shifting   = 0; ///< ΔPE of particle shifting
+    /// ΔPE of the density-error displacement −Δt²/ρ0 ∇q (the position form of the α term,
+    /// DensityCorrection): the volume the α term gives back to compressed liquid lifts it
+    double density_correction = 0;
   };
 
   /// What one step did (iterations, convergence, timings in seconds).
