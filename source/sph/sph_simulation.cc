@@ -73,7 +73,8 @@ namespace twinflow::sph
       engine->set_particles(P);
 
       result.active_physics.push_back("implicit SPH (Algorithm 2, " + std::string(prm.consistent ? "consistent" : "standard") +
-                                      " operators, " + engine->backend() + " backend)");
+                                      " operators" + (s.conservative_gradient ? " made an energy-conserving pair" : "") +
+                                      ", " + engine->backend() + " backend)");
       // Moving solids: rigid bodies co-simulated with the fluid (solids/coupling.h, Fig. 1).
       std::optional<solids::CoSimulation> coupling;
       if (scene.has_moving_solids())
@@ -579,6 +580,8 @@ namespace twinflow::sph
     s.min_pair_distance       = prm.min_pair_distance;
     s.limit_pressure_peaks    = prm.limit_pressure_peaks;
     s.wetted_walls            = prm.wetted_walls;
+    s.conservative_gradient        = prm.energy_conserving_pair;
+    s.shifting_velocity_correction = prm.energy_conserving_pair;
     s.surface_offset          = prm.surface_offset;
     for (int d = 0; d < 3; ++d)
     {

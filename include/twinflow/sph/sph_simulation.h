@@ -40,6 +40,8 @@ namespace twinflow::sph
     bool        surface_offset = EngineSettings().surface_offset; ///< EngineSettings::surface_offset
     double      min_pair_distance = EngineSettings().min_pair_distance; ///< EngineSettings::min_pair_distance
     bool        limit_pressure_peaks = EngineSettings().limit_pressure_peaks; ///< EngineSettings::limit_pressure_peaks
+    /// EngineSettings::conservative_gradient together with shifting_velocity_correction
+    bool        energy_conserving_pair = EngineSettings().conservative_gradient;
     double      time_step     = 1e-3;   ///< maximum step
     double      cfl           = 0.2;    ///< dt ≤ CFL h / max(|u|, U_ref)
     double      solver_tolerance = SolverSettings().tolerance;

@@ -75,22 +75,20 @@ namespace twinflow::sph
     /// with a free surface: p = 0 half a spacing beyond the free-surface
     /// particles, which carry p_s = Δx/2 ∂p/∂n (SurfacePressure), not at their centres
     bool               surface_offset = true;
-    /// Experimental, not a scene option: the consistent A^G made a summation-by-parts pair
-    /// (make_gradient_conservative), its constraints relaxed by μ = conservative_regularisation
-    /// on the rows with fewer than free_surface_min_neighbours entries, the weights ω of the rows
-    /// near the free surface free. Still water rests and the α = 0 collapse gains no energy; at
-    /// α > 0 the run still gains 2-4 % unless shifting_velocity_correction is on too. Each step
-    /// costs a CG of ~45 (a/10) to ~70 (a column 100 particles wide) iterations with the coarse
-    /// space of the CPU backend; block Jacobi alone (CUDA) needs 280 / 16,000+ (doc/benchmarks.md,
-    /// "The surface norm"). With both switches the whole splash scene runs (≤ E0 + 0.58 %), at
-    /// 6× (a/10) to 14× (splash) the default step ("The SBP multipliers in time").
+    /// `SPH/Energy-conserving pair` (with shifting_velocity_correction): the consistent A^G made
+    /// a summation-by-parts pair (make_gradient_conservative), its constraints relaxed by
+    /// μ = conservative_regularisation on the rows with fewer than free_surface_min_neighbours
+    /// entries, the weights ω of the rows near the free surface free. Still water rests, the
+    /// α = 0 collapse gains no energy, and α > 0 gains only the density-error displacement's
+    /// lift, a discretisation error (Martin & Moyce α = 1: 0.61 / 0.11 / 0.04 % at a/10 / a/20 /
+    /// a/40). Each step costs a CG of ~40 (a/10) to ~70 (splash) iterations with the coarse space
+    /// of the CPU backend: 4.6× (a/10) to 15× (a/40) the default step; block Jacobi alone (CUDA)
+    /// needs 280 / 16,000+ (doc/benchmarks.md, "Where the α > 0 energy comes from").
     bool               conservative_gradient       = false;
     double             conservative_regularisation = 10;
-    /// Experimental, not a scene option: a shifted particle's velocity is carried to its new
-    /// position, u + (δx·∇)u (ShiftVelocity). With conservative_gradient the coarse dam breaks
-    /// gain 0.00 / 0.61 / 0.63 % (α = 0, 1, 0.5) and none at CFL 1, 2, the rest of α > 0's gain
-    /// being the density-error displacement's; alone it gains 0.7-2.7 % there and the splash
-    /// scene runs away (doc/benchmarks.md).
+    /// With conservative_gradient (`SPH/Energy-conserving pair`): a shifted particle's velocity
+    /// is carried to its new position, u + (δx·∇)u (ShiftVelocity). Alone it gains 0.7-2.7 % on
+    /// the coarse dam breaks and the splash scene runs away (doc/benchmarks.md).
     bool               shifting_velocity_correction = false;
     std::array<double, 3> acceleration{{0, 0, 0}}; ///< gravity + body force
     std::array<double, 3> gravity{{0, 0, 0}};      ///< g of Eq. 61/64
