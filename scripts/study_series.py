@@ -8,8 +8,9 @@ usage:
 
 A series holds the rows (status ok) whose COLUMN equals (=) or differs from (!=) VALUE; several
 conditions are joined with '&'. Writes PREFIX.png (relative error against wall time and against
-cells, log-log, one line per series, each point labelled with its case number) and PREFIX.md
-(the rows of each series: cells, DoFs, steps, wall time, error). Run with /usr/bin/python3.
+the size: cells for the FEM, particles for SPH; log-log, one line per series, each point labelled
+with its case number) and PREFIX.md (the rows of each series: size, DoFs, steps, wall time,
+error). Run with /usr/bin/python3.
 """
 import argparse
 import csv
@@ -47,7 +48,12 @@ def select(rows, conditions):
             ok = ok and ((r[column] == value) if op == "=" else (r[column] != value))
         if ok:
             out.append(r)
-    return sorted(out, key=lambda r: float(r["cells"] or 0))
+    return sorted(out, key=size)
+
+
+def size(row):
+    """The row's problem size: its cells (FEM), else its particles (SPH)."""
+    return float(row.get("cells") or row.get("particles") or 0)
 
 
 def main(argv=None):
@@ -66,7 +72,8 @@ def main(argv=None):
                          f"{', '.join(c[6:] for c in rows[0] if c.startswith('error '))})")
     prefix = a.out or a.study.rsplit(".", 1)[0] + "_series"
     fig, (ax_t, ax_n) = plt.subplots(1, 2, figsize=(12, 4.8))
-    lines = [f"| series | case | cells | DoFs | steps | wall time [s] | error {a.quantity} |", "|---|---|---|---|---|---|---|"]
+    unit = "cells" if any(r.get("cells") for r in rows) else "particles"
+    lines = [f"| series | case | {unit} | DoFs | steps | wall time [s] | error {a.quantity} |", "|---|---|---|---|---|---|---|"]
     for spec in a.series:
         label, conditions = parse_series(spec)
         chosen = select(rows, conditions)
@@ -75,15 +82,16 @@ def main(argv=None):
             continue
         err = [float(r[column]) for r in chosen]
         wall = [float(r["wall time [s]"]) for r in chosen]
-        cells = [float(r["cells"]) for r in chosen]
-        for ax, x in ((ax_t, wall), (ax_n, cells)):
+        sizes = [size(r) for r in chosen]
+        for ax, x in ((ax_t, wall), (ax_n, sizes)):
             ax.loglog(x, err, "o-", label=label)
             for r, xi, yi in zip(chosen, x, err):
                 ax.annotate(r["case"], (xi, yi), textcoords="offset points", xytext=(4, 4), fontsize=8)
         for r in chosen:
-            lines.append(f"| {label} | {r['case']} | {int(float(r['cells'])):,} | {int(float(r['dofs'])):,} | {r['steps']} "
+            dofs = f"{int(float(r['dofs'])):,}" if r.get("dofs") else "—"
+            lines.append(f"| {label} | {r['case']} | {int(size(r)):,} | {dofs} | {r['steps']} "
                          f"| {float(r['wall time [s]']):.1f} | {100 * float(r[column]):.3g} % |")
-    for ax, xlabel in ((ax_t, "wall time [s]"), (ax_n, "cells")):
+    for ax, xlabel in ((ax_t, "wall time [s]"), (ax_n, unit)):
         ax.set_xlabel(xlabel)
         ax.set_ylabel(f"relative error: {a.quantity}")
         ax.grid(True, which="both", alpha=0.3)

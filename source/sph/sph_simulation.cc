@@ -144,8 +144,20 @@ namespace twinflow::sph
       for (const auto &row : budget_rows)
         energy_budget.append(row);
       double noise_sum = 0, noise_time = 0; // time average of the pressure noise
+      // the largest rise of the total energy above its initial value, relative to |E0| (a restart
+      // continues it from the carried rows; E0 is the run's first row)
+      double energy0 = std::nan(""), worst_energy_rise = 0;
+      auto   track_energy = [&](const double e) {
+        if (std::isnan(energy0))
+          energy0 = e;
+        if (energy0 != 0)
+          worst_energy_rise = std::max(worst_energy_rise, (e - energy0) / std::abs(energy0));
+      };
       for (const auto &row : energy_rows)
+      {
         energy.append(row);
+        track_energy(row[3]);
+      }
       for (const auto &row : solver_rows)
       {
         solver.append(row);
@@ -239,6 +251,7 @@ namespace twinflow::sph
           }
         const double xf = surge_front(P, prm.spacing);
         energy.append({t, ek, ep, ek + ep});
+        track_energy(ek + ep);
         front.append({t, xf, engine->max_fluid_speed(), foremost_particle(P, prm.spacing)});
         front_t.push_back(t);
         front_x.push_back(xf);
@@ -460,6 +473,15 @@ namespace twinflow::sph
       result.monitors["energy budget: potential of the move [J]"] = budget.potential;
       result.monitors["energy budget: shifting [J]"]              = budget.shifting;
       result.monitors["energy budget: density-error displacement [J]"] = budget.density_correction;
+      result.monitors["energy rise (max)"] = worst_energy_rise;
+      // A free surface under gravity in fixed walls, with no body force, moving body or outflow,
+      // is dissipative: its energy must never rise (the FEM reports the same quantity)
+      bool dissipative = s.free_surface && s.gravity_norm() > 0 && !coupling && !open.active();
+      for (int d = 0; d < dim; ++d)
+        dissipative = dissipative && scene.body_force[d] == 0;
+      if (dissipative)
+        summary.add_error("energy rise above the initial value (max over the run)", worst_energy_rise, 0.0, 5e-3,
+                          "fluid kinetic + potential energy; a free-surface flow in fixed walls is dissipative");
       if (scene.reference_hydrostatic)
       {
         // Fluid at rest: final bulk pressure against rho |g| (H_0 - y) (hydrostatic_check.h).

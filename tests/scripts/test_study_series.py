@@ -49,6 +49,26 @@ def main():
             failures.append(f"uniform series holds cases {uniform}, expected 3, 4")
         if not os.path.getsize(prefix + ".png") > 1000:
             failures.append("no PNG")
+    # an SPH study: no cells, the size is the particle count (table column and x axis)
+    sph = os.path.join(work, "study_sph.csv")
+    with open(sph, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["case", "folder", "SPH/Energy-conserving pair", "method", "cells", "dofs", "particles", "steps",
+                    "wall time [s]", "error energy rise", "status"])
+        w.writerows([[1, "a", "false", "sph", "", "", 2156, 720, 4.3, 0.0214, "ok"],
+                     [2, "b", "false", "sph", "", "", 896, 360, 1.0, 0.0475, "ok"],
+                     [3, "c", "true", "sph", "", "", 896, 360, 4.8, 0.0061, "ok"]])
+    r = run(sph, "--series", "default:SPH/Energy-conserving pair=false", "--series",
+            "pair:SPH/Energy-conserving pair=true", "--quantity", "energy rise", "--out", prefix + "_sph")
+    if r.returncode != 0:
+        failures.append(f"SPH study failed: {r.stderr}")
+    else:
+        lines = open(prefix + "_sph.md").read().splitlines()
+        if "| particles |" not in lines[0]:
+            failures.append(f"SPH table's size column is not 'particles': {lines[0]}")
+        default = [(l.split("|")[2].strip(), l.split("|")[3].strip()) for l in lines[2:] if l.startswith("| default")]
+        if default != [("2", "896"), ("1", "2,156")]:
+            failures.append(f"SPH default series {default}, expected cases 2 then 1 by particle count")
     r = run(study, "--series", "x:No such column=1", "--out", prefix)
     if r.returncode == 0 or "No such column" not in (r.stderr + r.stdout):
         failures.append(f"an unknown column must be an error naming it: {r.returncode} {r.stderr}")
