@@ -190,8 +190,8 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
       report.budget.pressure = fluid_energy(u, false) - ke1;
       // the shifting's and the pair separation's potential-energy changes (positions only)
       report.budget.shifting  = (settings.shifting > 0 ? fluid_energy(x, true) - pe_moved : 0.0) + separation_pe;
-      report.budget.density_correction = density_pe;
-      report.budget.potential = (settings.shifting > 0 ? pe_moved : fluid_energy(x, true)) - pe0 - density_pe;
+      report.budget.potential = (settings.shifting > 0 ? pe_moved : fluid_energy(x, true)) - pe0 -
+                                report.budget.density_correction; // correct_and_move() booked it
       report.t_update  = clock.lap();
       return report;
     }
@@ -549,7 +549,7 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
           for_each_particle(pg);
         }
       }
-      density_pe = position_correction ? displacement_energy(dt) : 0.0;
+      report.budget.density_correction = position_correction ? displacement_energy(dt) : 0.0;
       detail::CorrectAndMove<dim> cm;
       cm.p         = particles();
       cm.grad_p    = components(grad_p);
@@ -806,7 +806,6 @@ namespace twinflow::sph::TWINFLOW_SPH_BACKEND
     int                solids = 0;
     static constexpr bool pin_confined_pressure = false;
     double             m0 = 0, pe_moved = 0; ///< pe_moved: potential energy before the shift
-    double             density_pe = 0;       ///< ΔPE of the step's density-error displacement
     int                n = 0, pinned = -1;
     bool               position_correction = false;
     StepReport         report;
